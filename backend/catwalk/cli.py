@@ -1,0 +1,71 @@
+"""The ``catwalk`` command.
+
+Each area of the product registers its own sub-commands from its ``commands`` module (so the
+areas stay apart): ``register(top, groups)`` where ``top`` is the top-level sub-parser set and
+``groups`` maps a group name (``body``, ``bench``) to that group's sub-parser set. A command's
+handler is ``args.func(args) -> int``. User errors (:class:`catwalk.errors.CatwalkError`) print
+``catwalk: error: …`` and exit 2 without a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from catwalk.errors import CatwalkError
+
+# Modules that add commands; each has register(top, groups).
+COMMAND_MODULES = [
+    "catwalk.commands",
+    "catwalk.body.commands",
+    "catwalk.motion.commands",
+    "catwalk.render.commands",
+    "catwalk.cloth.commands",
+    "catwalk.collide.commands",
+]
+
+GROUPS = {
+    "body": "bodies: make from measurements, measure, inspect scans",
+    "bench": "benchmarks (each with --json)",
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="catwalk", description="catwalk: virtual try-on on a walking body")
+    top = parser.add_subparsers(dest="command", metavar="COMMAND")
+    top.required = True
+    groups = {}
+    for name, help_text in GROUPS.items():
+        gp = top.add_parser(name, help=help_text, description=help_text)
+        sub = gp.add_subparsers(dest=f"{name}_command", metavar="COMMAND")
+        sub.required = True
+        groups[name] = sub
+    for modname in COMMAND_MODULES:
+        try:
+            mod = importlib.import_module(modname)
+        except ModuleNotFoundError as exc:
+            if exc.name == modname:
+                continue  # that area has no commands yet
+            raise
+        mod.register(top, groups)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        rc = args.func(args)
+    except CatwalkError as exc:
+        print(f"catwalk: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("catwalk: interrupted", file=sys.stderr)
+        return 130
+    return int(rc or 0)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,22 @@
+import subprocess
+import sys
+
+from catwalk.cli import main
+
+
+def test_assets_are_unpacked_with_licence(mpfb2):
+    assert (mpfb2 / "LICENSE.md").read_text().startswith("# Creative Commons CC0")
+    assert (mpfb2 / "3dobjs" / "base.obj").stat().st_size > 1_000_000
+
+
+def test_unknown_command_exits_2():
+    res = subprocess.run([sys.executable, "-m", "catwalk.cli", "no-such-command"],
+                         capture_output=True, text=True)
+    assert res.returncode == 2
+    assert "invalid choice" in res.stderr
+    assert "Traceback" not in res.stderr
+
+
+def test_assets_command(capsys, mpfb2):
+    assert main(["assets", "--quiet"]) == 0
+    assert str(mpfb2) in capsys.readouterr().out
