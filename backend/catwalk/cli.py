@@ -19,6 +19,7 @@ from catwalk.errors import CatwalkError
 COMMAND_MODULES = [
     "catwalk.commands",
     "catwalk.body.commands",
+    "catwalk.body.scan_commands",
     "catwalk.motion.commands",
     "catwalk.render.commands",
     "catwalk.cloth.commands",

@@ -1,0 +1,72 @@
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from catwalk.body.types import Body, Motion, Skeleton
+from catwalk.errors import InputError
+from catwalk.export import gltf
+
+
+def _box_body():
+    import trimesh
+
+    m = trimesh.creation.box(extents=(0.3, 1.6, 0.2))
+    m = m.subdivide().subdivide()
+    v = np.asarray(m.vertices) + [0, 0.8, 0]
+    rl = np.stack([np.eye(4)] * 2)
+    rl[0][:3, 3] = [0, 0.9, 0]
+    rl[1][:3, 3] = [0, 0.5, 0]
+    sk = Skeleton(names=["hips", "chest"], parents=np.array([-1, 0]), rest_local=rl)
+    n = len(v)
+    sj = np.zeros((n, 4), np.uint16)
+    sj[:, 0] = v[:, 1] > 1.2
+    sw = np.zeros((n, 4), np.float32)
+    sw[:, 0] = 1
+    parts = (v[:, 0] > 0.1).astype(np.int8)
+    return Body(v, np.asarray(m.faces, np.int32), parts, sk, sj, sw,
+                landmarks={"waist": [0.0, 1.0, 0.0]}, meta={"sex": "test"})
+
+
+def _motion(frames=12):
+    rot = np.zeros((frames, 2, 4))
+    rot[..., 3] = 1
+    rot[:, 1] = Rotation.from_euler("x", np.linspace(0, 0.6, frames)[:, None]).as_quat()
+    tr = np.tile([[0, 0.9, 0], [0, 0.5, 0]], (frames, 1, 1)).astype(float)
+    tr[:, 0, 2] = np.linspace(0, 0.5, frames)
+    return Motion(30.0, rot, tr)
+
+
+def test_body_with_motion_round_trips_and_validates(tmp_path):
+    body, motion = _box_body(), _motion()
+    path = tmp_path / "b.glb"
+    gltf.write_glb(path, body, motion)
+    report = gltf.validate([path])[0]
+    assert report["numErrors"] == 0, report["messages"]
+    back = gltf.read_body(path)
+    assert np.allclose(back.vertices, body.vertices, atol=1e-6)
+    assert np.array_equal(back.faces, body.faces)
+    assert np.array_equal(back.parts, body.parts)
+    assert back.skeleton.names == ["hips", "chest"]
+    assert np.allclose(back.skeleton.rest_world, body.skeleton.rest_world, atol=1e-6)
+    assert back.landmarks == {"waist": [0.0, 1.0, 0.0]}
+    m = gltf.read_motion(path)
+    assert m.frames == motion.frames and m.fps == 30.0
+    assert np.allclose(m.rotations, motion.rotations, atol=1e-6)
+    assert np.allclose(m.translations, motion.translations, atol=1e-6)
+
+
+def test_write_is_atomic_on_failure(tmp_path):
+    body = _box_body()
+    bad = Motion(30.0, np.zeros((3, 5, 4)), np.zeros((3, 5, 3)))
+    with pytest.raises(ValueError):
+        gltf.write_glb(tmp_path / "x.glb", body, bad)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_reading_garbage_is_a_clear_error(tmp_path):
+    p = tmp_path / "junk.glb"
+    p.write_bytes(b"glTF\x02\x00\x00\x00garbage")
+    with pytest.raises(InputError, match="junk.glb"):
+        gltf.read_body(p)
+    with pytest.raises(InputError, match="no such file"):
+        gltf.read_body(tmp_path / "missing.glb")
