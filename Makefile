@@ -6,11 +6,12 @@ PY := $(VENV)/bin/python
 CATWALK := $(VENV)/bin/catwalk
 STAMP := $(VENV)/.installed
 NODE_STAMP := tools/node/node_modules/.installed
+FS_STAMP := garments/freesewing/node_modules/.installed
 PYTEST_ARGS ?=
 
 .PHONY: install demo test lint bodies clean
 
-install: $(STAMP) $(NODE_STAMP)
+install: $(STAMP) $(NODE_STAMP) $(FS_STAMP)
 	$(CATWALK) assets
 
 $(STAMP): pyproject.toml
@@ -23,13 +24,16 @@ $(NODE_STAMP): tools/node/package.json tools/node/package-lock.json
 	cd tools/node && npm ci --no-audit --no-fund --loglevel=error
 	touch $@
 
+$(FS_STAMP): garments/freesewing/package.json garments/freesewing/package-lock.json
+	cd garments/freesewing && npm ci --no-audit --no-fund --loglevel=error
+	touch $@
+
 demo: install
 	mkdir -p demo
 	$(CATWALK) body make --sex female --height 1.68 --bust 0.90 --waist 0.72 --hips 0.98 -o demo/body.glb
 	$(CATWALK) walk --body demo/body.glb --seconds 4 --style catwalk -o demo/walk.glb
-	$(CATWALK) render demo/walk.glb --time 0.6 --view front -o demo/walk_front.png
-	$(CATWALK) render demo/walk.glb --time 0.6 --view side -o demo/walk_side.png
-	@echo "demo: wrote demo/walk.glb, demo/walk_front.png, demo/walk_side.png"
+	$(CATWALK) render demo/walk.glb --time 0.2 0.5 0.8 1.1 --view front side --size 360x540 -o demo/walk.png
+	@echo "demo: wrote demo/body.glb, demo/walk.glb and the preview demo/walk.png"
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check backend tests
@@ -41,4 +45,4 @@ bodies: install
 	$(CATWALK) bodies build
 
 clean:
-	rm -rf $(VENV) tools/node/node_modules demo
+	rm -rf $(VENV) tools/node/node_modules garments/freesewing/node_modules demo

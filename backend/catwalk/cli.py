@@ -24,6 +24,7 @@ COMMAND_MODULES = [
     "catwalk.render.commands",
     "catwalk.cloth.commands",
     "catwalk.collide.commands",
+    "catwalk.garment.commands",
 ]
 
 GROUPS = {

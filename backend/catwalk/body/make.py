@@ -79,7 +79,8 @@ class BodyRequest:
 FIT_MODIFIERS = {
     "bust": (("torso/measure-bust-circ", 1.0), ("torso/torso-scale-horiz", 3.0)),
     "underbust": (("torso/measure-underbust-circ", 1.0),),
-    "waist": (("torso/measure-waist-circ", 1.0), ("stomach/stomach-pregnant", 3.0)),
+    "waist": (("torso/measure-waist-circ", 1.0), ("stomach/stomach-pregnant", 6.0),
+              ("torso/torso-scale-depth", 3.0)),
     "hips": (("torso/measure-hips-circ", 1.0), ("hip/hip-scale-horiz", 3.0)),
 }
 MODIFIERS = tuple(m for group in FIT_MODIFIERS.values() for m, _ in group)
@@ -172,8 +173,8 @@ def _height_slider(space: ShapeSpace, height: float) -> float:
 class GirthRings:
     """Per girth: anchor vertices whose mean height sets the slicing level, and the mesh edges
     (arms excluded) a horizontal slice may cut."""
-    anchors: dict
-    edges: np.ndarray       # (E, 2) body edges whose both ends are not arm vertices
+    anchors: dict           # girth -> anchor vertex indices
+    edges: dict             # girth -> (E, 2) non-arm body edges within 8 cm of its level
 
 
 @lru_cache(maxsize=2)
@@ -197,14 +198,17 @@ def girth_rings(gender: float) -> GirthRings:
     faces = mh.load_base_mesh().body_triangles
     lm = measure_body(v, faces, sex=sex)["landmarks"]
     arm = (parts == 1) | (parts == 2)
-    anchors = {}
-    for key in GIRTHS:
-        if key in lm:
-            anchors[key] = np.flatnonzero((np.abs(v[:, 1] - lm[key][1]) < 0.008) & ~arm)
     e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     e = np.unique(np.sort(e, axis=1), axis=0)
     e = e[~arm[e[:, 0]] & ~arm[e[:, 1]]]
-    return GirthRings(anchors, e)
+    anchors, edges = {}, {}
+    for key in GIRTHS:
+        if key in lm:
+            y = lm[key][1]
+            anchors[key] = np.flatnonzero((np.abs(v[:, 1] - y) < 0.008) & ~arm)
+            near = (np.abs(v[e[:, 0], 1] - y) < 0.08) | (np.abs(v[e[:, 1], 1] - y) < 0.08)
+            edges[key] = e[near]
+    return GirthRings(anchors, edges)
 
 
 def _slice_girth(v: np.ndarray, edges: np.ndarray, y: float) -> float:
@@ -257,7 +261,7 @@ def fit_shape(req: BodyRequest, measure=None) -> tuple[np.ndarray, dict]:
                                req.height)
 
     def ring_girths(v):
-        return np.array([_slice_girth(v, rings.edges, float(v[rings.anchors[k], 1].mean()))
+        return np.array([_slice_girth(v, rings.edges[k], float(v[rings.anchors[k], 1].mean()))
                          for k in wanted])
 
     def measured(v):
@@ -273,7 +277,7 @@ def fit_shape(req: BodyRequest, measure=None) -> tuple[np.ndarray, dict]:
             return np.concatenate([ring_girths(build(x)) - ring_target, reg * (x - x0)])
 
         x = least_squares(residual, x, bounds=(lo, hi + 1e-12), diff_step=1e-3,
-                          xtol=1e-8, ftol=1e-10, max_nfev=200).x
+                          xtol=1e-7, ftol=1e-9, max_nfev=40).x
         v = build(x)
         got = measured(v)
         err = got - target
