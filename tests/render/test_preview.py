@@ -1,3 +1,4 @@
+import os
 import time
 
 import numpy as np
@@ -26,6 +27,9 @@ def test_sphere_renders_shaded_disc_on_grey(tmp_path):
     back = np.asarray(Image.open(path))
     np.testing.assert_array_equal(back, img)
     assert not list(tmp_path.glob(".*"))  # no temporary left behind
+    umask = os.umask(0)
+    os.umask(umask)
+    assert path.stat().st_mode & 0o777 == 0o666 & ~umask  # not the temporary's 0600
 
 
 def test_views_and_colours_of_a_mannequin():

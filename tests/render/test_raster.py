@@ -128,3 +128,21 @@ def test_bad_input_is_a_catwalk_error():
         rasterize(np.zeros((3, 3)), [[0, 1, 2]], keep="middle")
     with pytest.raises(CatwalkError):
         ortho_view((0, 0, 0), (1, 1, 1), "upside-down")
+
+
+def test_culling_keeps_the_nearest_and_farthest_layers_of_a_closed_surface():
+    from catwalk.render.raster import CULL_BACK, CULL_FRONT
+
+    v, f = sphere((0.0, 0.0, 0.0), 0.5, n_around=64, n_rings=32)
+    cam = ortho_view((-1, -1, -1), (1, 1, 1), "side", (100, 100))
+    sv = cam.to_screen(v)
+    near = rasterize(sv, f, size=(100, 100), keep="near")
+    near_c = rasterize(sv, f, size=(100, 100), keep="near", cull=CULL_BACK)
+    far = rasterize(sv, f, size=(100, 100), keep="far")
+    far_c = rasterize(sv, f, size=(100, 100), keep="far", cull=CULL_FRONT)
+    assert np.array_equal(near.covered, near_c.covered)
+    np.testing.assert_allclose(near.depth[near.covered], near_c.depth[near.covered], atol=1e-12)
+    np.testing.assert_allclose(far.depth[far.covered], far_c.depth[far.covered], atol=1e-12)
+    # culled the wrong way round, the near map sees the back: the depths flip sign
+    wrong = rasterize(sv, f, size=(100, 100), keep="near", cull=CULL_FRONT)
+    assert np.all(wrong.depth[wrong.covered] < 0.0 + 1e-3)

@@ -12,6 +12,8 @@ contact shadow. The rasteriser is :mod:`catwalk.render.raster`, shared with the 
 
 from __future__ import annotations
 
+import os
+
 import numba
 import numpy as np
 
@@ -69,7 +71,7 @@ def _gather(meshes):
     return np.vstack(verts), np.vstack(faces), np.vstack(attrs)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def _shade(attrs, tri, cam, key, fill, ambient, kd, kf, bg, img):
     h, w = tri.shape
     for i in range(h):
@@ -100,7 +102,7 @@ def _shade(attrs, tri, cam, key, fill, ambient, kd, kf, bg, img):
                 img[i, j, q] = min(attrs[i, j, 3 + q] * s, 1.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def _background(colour, floor_colour, floor, y_floor, cx, half, ry, ss, bg):
     h, w, _ = bg.shape
     for i in range(h):
@@ -122,7 +124,7 @@ def _background(colour, floor_colour, floor, y_floor, cx, half, ry, ss, bg):
                     bg[i, j, q] *= f
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def _downsample_u8(img, ss, out):
     h, w, _ = out.shape
     inv = 1.0 / (ss * ss)
@@ -200,3 +202,7 @@ def save_png(image, path) -> None:
         raise CatwalkError(f"image must be uint8 (H, W[, 3|4]), got {a.dtype} {a.shape}")
     with atomic_path(path) as tmp:
         Image.fromarray(a).save(tmp, format="PNG")
+        # the temporary file is created 0600; give the image the usual permissions
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)

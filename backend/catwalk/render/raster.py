@@ -34,7 +34,7 @@ from catwalk.errors import CatwalkError
 NAMED_VIEWS = {"front": 0.0, "side": 90.0, "left": 90.0, "back": 180.0, "right": 270.0}
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def clear_depth(keep_far, depth, tri):
     """Reset depth and triangle ids to empty in place (attributes are left as they are: they
     are meaningful only where ``tri >= 0``)."""
@@ -46,7 +46,7 @@ def clear_depth(keep_far, depth, tri):
             tri[i, j] = -1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def clear_buffers(keep_far, depth, attrs, tri):
     """Reset buffers to empty (no triangle seen, attributes zero) in place."""
     clear_depth(keep_far, depth, tri)
@@ -56,7 +56,7 @@ def clear_buffers(keep_far, depth, attrs, tri):
 CULL_NONE, CULL_BACK, CULL_FRONT = 0, 1, -1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def raster_kernel(sv, faces, vattr, keep_far, depth, attrs, tri, cull=0):
     """Rasterise triangles ``faces`` (M,3) of screen vertices ``sv`` (N,3) into the buffers.
 
@@ -109,27 +109,41 @@ def raster_kernel(sv, faces, vattr, keep_far, depth, attrs, tri, cull=0):
         d1 = (y2 - y0) * inv
         d2 = -(d0 + d1)
         px0 = j0 + 0.5
+        small = (j1 - j0) < 3  # narrow: test every pixel, no span arithmetic
         for i in range(i0, i1 + 1):
             py = i + 0.5
             w0s = ((x1 - px0) * (y2 - py) - (x2 - px0) * (y1 - py)) * inv
             w1s = ((x2 - px0) * (y0 - py) - (x0 - px0) * (y2 - py)) * inv
             w2s = 1.0 - w0s - w1s
-            # the span of columns where all three weights are >= −eps
-            lo = 0.0
-            hi = float(j1 - j0)
-            empty = False
-            for ws, d in ((w0s, d0), (w1s, d1), (w2s, d2)):
-                if d > 0.0:
-                    lo = max(lo, (-eps - ws) / d)
-                elif d < 0.0:
-                    hi = min(hi, (-eps - ws) / d)
-                elif ws < -eps:
-                    empty = True
-            if empty or lo > hi:
-                continue
-            ja = j0 + int(math.ceil(lo - 1e-7))
-            jb = j0 + int(math.floor(hi + 1e-7))
-            for j in range(max(ja, j0), min(jb, j1) + 1):
+            ja = j0
+            jb = j1
+            if not small:
+                # the span of columns where all three weights are >= −eps
+                lo = 0.0
+                hi = float(j1 - j0)
+                if d0 > 0.0:
+                    lo = max(lo, (-eps - w0s) / d0)
+                elif d0 < 0.0:
+                    hi = min(hi, (-eps - w0s) / d0)
+                elif w0s < -eps:
+                    continue
+                if d1 > 0.0:
+                    lo = max(lo, (-eps - w1s) / d1)
+                elif d1 < 0.0:
+                    hi = min(hi, (-eps - w1s) / d1)
+                elif w1s < -eps:
+                    continue
+                if d2 > 0.0:
+                    lo = max(lo, (-eps - w2s) / d2)
+                elif d2 < 0.0:
+                    hi = min(hi, (-eps - w2s) / d2)
+                elif w2s < -eps:
+                    continue
+                if lo > hi:
+                    continue
+                ja = max(j0 + int(math.ceil(lo - 1e-7)), j0)
+                jb = min(j0 + int(math.floor(hi + 1e-7)), j1)
+            for j in range(ja, jb + 1):
                 dj = j - j0
                 w0 = w0s + d0 * dj
                 w1 = w1s + d1 * dj
@@ -152,7 +166,7 @@ def raster_kernel(sv, faces, vattr, keep_far, depth, attrs, tri, cull=0):
     return written
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def transform_points(m, p, out):
     """``out[i] = m[:, :3] @ p[i] + m[:, 3]`` for a 3×4 matrix ``m``."""
     for i in range(p.shape[0]):
@@ -340,7 +354,7 @@ def ortho_view(bbox_min, bbox_max, view="front", size=(256, 256), margin=0.0,
 # --------------------------------------------------------------------------- normals
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, _nrt=False)
 def vertex_normals_kernel(v, faces, out):
     """Area-weighted per-vertex normals (unit; zero for unused vertices) into ``out`` (N,3)."""
     out[:] = 0.0

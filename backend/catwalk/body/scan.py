@@ -1,0 +1,428 @@
+"""Loading body scans (OBJ, PLY, STL, GLB) into SI glTF axes.
+
+:func:`load_scan` reads a triangle mesh with trimesh, checks it (readable, finite, not
+degenerate, a human size, at most :data:`MAX_FACES` faces), then finds
+
+- the unit: the one of m, dm, cm, mm that makes the body 1.0–2.3 m tall (MakeHuman's OBJ is in
+  decimetres);
+- the up axis: the axis of largest extent (if a second axis is nearly as long, as in a T-pose,
+  the one whose end shows two feet wins); its sign: the end whose sections near it (4, 8, 12 %)
+  show two loops of a kind side by side (feet, shins; not hair around a head or eyes inside
+  it) is down; if neither end does, the end farther from the surface's area centroid is down
+  (a body has more surface above mid-height);
+- the facing direction: the feet point forwards, so the horizontal offset from the centre of
+  the ankle sections (10 % of the height) to the centre of the foot sections (1.5 %) gives
+  "forward"; it is snapped to the nearest horizontal axis of the file (scans are axis-aligned;
+  the snapped rotation keeps the mesh exact). If the feet give no clear direction the file's
+  own convention is kept (+Z forward for a Y-up file, -Y for a Z-up file) and the report says
+  it was assumed.
+
+The result is in metres, +Y up, facing +Z (body's left = +X), feet on y = 0, centred on x = z = 0
+(bounding box). The conversion is a proper rotation (never a mirror), a scale and a translation;
+:attr:`Scan.transform` maps file coordinates to the output.
+"""
+
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from catwalk.errors import InputError
+
+MAX_FACES = 2_000_000
+EXTENSIONS = {".obj": "obj", ".ply": "ply", ".stl": "stl", ".glb": "glb"}
+UNITS = (("m", 1.0), ("dm", 0.1), ("cm", 0.01), ("mm", 0.001))
+HUMAN_HEIGHT = (1.0, 2.3)  # metres
+AXES = "XYZ"
+
+
+@dataclass
+class Scan:
+    path: str
+    vertices: np.ndarray      # (N, 3) float64, metres, glTF axes, feet on y = 0
+    faces: np.ndarray         # (M, 3) int32
+    units: str                # unit the file was in: m, dm, cm or mm
+    scale: float              # file units -> metres
+    up: str                   # the file's up axis, e.g. "+Z"
+    forward: str              # the file's facing axis, e.g. "-Y"
+    forward_detected: bool    # False: no clear facing direction, the file's convention assumed
+    transform: np.ndarray     # (4, 4) file coordinates -> output coordinates
+    watertight: bool
+    holes: int                # boundary loops
+    components: int           # connected pieces of surface
+    nonmanifold_edges: int
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def height(self) -> float:
+        return float(self.vertices[:, 1].max() - self.vertices[:, 1].min())
+
+    def info(self) -> dict:
+        v = self.vertices
+        return {
+            "file": self.path,
+            "format": self.meta.get("format"),
+            "vertices": int(len(v)),
+            "faces": int(len(self.faces)),
+            "units": self.units,
+            "scale_to_metres": self.scale,
+            "up_axis": self.up,
+            "forward_axis": self.forward,
+            "forward_detected": self.forward_detected,
+            "height_m": round(self.height, 4),
+            "bounds_m": [[round(float(a), 4) for a in v.min(axis=0)],
+                         [round(float(a), 4) for a in v.max(axis=0)]],
+            "watertight": self.watertight,
+            "holes": self.holes,
+            "components": self.components,
+            "nonmanifold_edges": self.nonmanifold_edges,
+            "transform": [[round(float(a), 6) for a in row] for row in self.transform],
+        }
+
+
+# ----------------------------------------------------------------------------------------------
+# reading
+
+
+def _precheck(path: Path, fmt: str) -> None:
+    """Cheap checks before a full parse: empty files and declared face counts."""
+    size = path.stat().st_size
+    if size == 0:
+        raise InputError(f"{path}: the file is empty")
+    if fmt == "stl":
+        with open(path, "rb") as f:
+            head = f.read(84)
+        if not head.lstrip().lower().startswith(b"solid") and len(head) >= 84:
+            (n,) = struct.unpack("<I", head[80:84])
+            if size < 84 + 50 * n:
+                raise InputError(f"{path}: truncated or not a binary STL: {n:,} triangles "
+                                 f"declared, room for {max(0, size - 84) // 50:,}")
+            if n > MAX_FACES:
+                raise InputError(f"{path}: {n:,} faces; at most {MAX_FACES:,} are accepted")
+    elif fmt == "ply":
+        with open(path, "rb") as f:
+            head = f.read(4096)
+        if not head.startswith(b"ply"):
+            raise InputError(f"{path}: not a PLY file (no 'ply' magic)")
+        for line in head.split(b"\n"):
+            parts = line.split()
+            if len(parts) == 3 and parts[0] == b"element" and parts[1] == b"face":
+                try:
+                    n = int(parts[2])
+                except ValueError:
+                    raise InputError(f"{path}: bad PLY header line {line!r}") from None
+                if n > MAX_FACES:
+                    raise InputError(f"{path}: {n:,} faces; at most {MAX_FACES:,} are accepted")
+            if line.strip() == b"end_header":
+                break
+    elif fmt == "glb":
+        with open(path, "rb") as f:
+            head = f.read(12)
+        if len(head) < 12 or head[:4] != b"glTF":
+            raise InputError(f"{path}: not a GLB file (no 'glTF' magic)")
+        (length,) = struct.unpack("<I", head[8:12])
+        if size < length:
+            raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
+                             f"file has {size:,}")
+
+
+def _read(path: Path, fmt: str) -> tuple[np.ndarray, np.ndarray]:
+    import trimesh
+
+    try:
+        loaded = trimesh.load(str(path), file_type=fmt, force="scene", process=False)
+    except InputError:
+        raise
+    except (UnicodeDecodeError, ModuleNotFoundError):
+        raise InputError(f"{path}: not a readable {fmt.upper()} file (binary or garbled "
+                         "content where text was expected)") from None
+    except Exception as exc:  # trimesh raises many kinds on bad input
+        msg = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise InputError(f"{path}: cannot read the {fmt.upper()} file "
+                         f"(unreadable or truncated): {msg}") from None
+    verts, faces = [], []
+    offset = 0
+    try:
+        graph = loaded.graph
+        for node in graph.nodes_geometry:
+            transform, gname = graph[node]
+            geom = loaded.geometry[gname]
+            if not isinstance(geom, trimesh.Trimesh):
+                continue
+            v = np.asarray(geom.vertices, dtype=np.float64)
+            f = np.asarray(geom.faces, dtype=np.int64).reshape(-1, 3)
+            T = np.asarray(transform, dtype=np.float64)
+            if len(v) and not np.array_equal(T, np.eye(4)):
+                with np.errstate(invalid="ignore", over="ignore"):  # NaN is reported later
+                    v = v @ T[:3, :3].T + T[:3, 3]
+            verts.append(v)
+            faces.append(f + offset)
+            offset += len(v)
+    except Exception as exc:
+        raise InputError(f"{path}: cannot read the {fmt.upper()} file: {exc}") from None
+    if not faces or offset == 0 or sum(len(f) for f in faces) == 0:
+        raise InputError(f"{path}: no triangles in the file (empty, a point cloud, or "
+                         "truncated)")
+    return np.concatenate(verts), np.concatenate(faces)
+
+
+# ----------------------------------------------------------------------------------------------
+# checks and topology
+
+
+def _topology_report(faces: np.ndarray, nverts: int) -> tuple[int, int, int]:
+    """(boundary loops, connected components, non-manifold edges)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
+    e.sort(axis=1)
+    key = e[:, 0] * nverts + e[:, 1]
+    uniq, counts = np.unique(key, return_counts=True)
+    boundary = uniq[counts == 1]
+    nonmanifold = int(np.count_nonzero(counts > 2))
+    holes = 0
+    if len(boundary):
+        a, b = boundary // nverts, boundary % nverts
+        g = coo_matrix((np.ones(len(a)), (a, b)), shape=(nverts, nverts))
+        ncomp, lab = connected_components(g, directed=False)
+        holes = _count_distinct(lab[_used(np.concatenate([a, b]), nverts)])
+    used = _used(faces, nverts)
+    g = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(nverts, nverts))
+    _, lab = connected_components(g, directed=False)
+    components = _count_distinct(lab[used])
+    return holes, components, nonmanifold
+
+
+def _used(idx: np.ndarray, n: int) -> np.ndarray:
+    """Sorted distinct values of an index array (faster than np.unique for vertex ids)."""
+    m = np.zeros(n, bool)
+    m[np.asarray(idx).ravel()] = True
+    return np.nonzero(m)[0]
+
+
+def _count_distinct(labels: np.ndarray) -> int:
+    return int(np.count_nonzero(np.bincount(labels))) if len(labels) else 0
+
+
+def _merge_vertices(v: np.ndarray, f: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Weld vertices closer than ``tol`` (grid rounding) and drop faces that collapse."""
+    q = np.round((v - v.min(axis=0)) / tol).astype(np.int64)
+    size = q.max(axis=0) + 1
+    if float(size[0]) * float(size[1]) * float(size[2]) < 2.0**62:
+        key = (q[:, 0] * size[1] + q[:, 1]) * size[2] + q[:, 2]  # one int64 per grid cell
+        _, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    else:
+        _, first, inv = np.unique(q, axis=0, return_index=True, return_inverse=True)
+    inv = inv.reshape(-1)
+    v2 = v[first]
+    f2 = inv[f]
+    ok = (f2[:, 0] != f2[:, 1]) & (f2[:, 1] != f2[:, 2]) & (f2[:, 2] != f2[:, 0])
+    return v2, f2[ok]
+
+
+# ----------------------------------------------------------------------------------------------
+# orientation
+
+
+def _sections(v, faces, axis, fractions, length, lo):
+    """Horizontal-ish sections perpendicular to ``axis`` at the given fractions of the length
+    measured from coordinate ``lo``: per level (perimeters, centroids (k, 2), areas, level,
+    boxes (k, 4))."""
+    from catwalk.body.measure import _Slicer, _topology
+
+    topo = _topology(faces, len(v))
+    v = topo.extend(v)  # holes are closed by fans (extra vertices) for slicing
+    others = [a for a in range(3) if a != axis]
+    sl = _Slicer(topo, v[:, axis], v[:, others[0]], v[:, others[1]])
+    levels = np.sort(lo + np.asarray(fractions) * length)
+    sec = sl.slice(levels)
+    out = []
+    for k in range(len(levels)):
+        cs = sec.comps(k)
+        out.append((sec.stats[cs, 0], sec.stats[cs][:, 2:4], sec.stats[cs, 1], levels[k],
+                    sec.stats[cs][:, 4:8]))
+    return out
+
+
+def _feet_score(v, faces, axis, sign):
+    """How many of the sections at 4, 8, 12 % from the ``sign`` end show two loops of a kind
+    side by side (feet, shins): the two largest loops that are not inside another's box have
+    perimeters within a factor 2."""
+    lo, hi = v[:, axis].min(), v[:, axis].max()
+    length = hi - lo
+    fr = np.array([0.04, 0.08, 0.12])
+    if sign < 0:  # measured from the top end
+        fr = 1.0 - fr
+    score = 0
+    for per, cen, _a, _lvl, box in _sections(v, faces, axis, fr, length, lo):
+        big = np.nonzero(per > 0.03 * length)[0]
+        # loops that lie side by side, not one inside another's box (hair around a head,
+        # eyes inside it, tights around a leg do not count)
+        big = big[np.argsort(-per[big])]
+        top = []
+        for i in big:
+            if not any(box[j, 0] <= cen[i, 0] <= box[j, 1] and box[j, 2] <= cen[i, 1] <= box[j, 3]
+                       for j in top):
+                top.append(i)
+        if len(top) >= 2 and per[top[1]] >= 0.5 * per[top[0]]:  # two of a kind: feet, shins
+            score += 1
+    return score
+
+
+def _detect_up(v, faces) -> tuple[int, int]:
+    """(axis, sign) of the file's up direction."""
+    ext = v.max(axis=0) - v.min(axis=0)
+    order = np.argsort(-ext)
+    cands = [int(order[0])]
+    if ext[order[1]] > 0.9 * ext[order[0]]:
+        cands.append(int(order[1]))
+    best = None
+    for ax in cands:
+        up_feet = _feet_score(v, faces, ax, +1)    # feet at the low end => up is +
+        down_feet = _feet_score(v, faces, ax, -1)  # feet at the high end => up is -
+        score, sign = (up_feet, 1) if up_feet >= down_feet else (down_feet, -1)
+        margin = abs(up_feet - down_feet)
+        if best is None or (margin, score) > (best[2], best[3]):
+            best = (ax, sign, margin, score)
+    ax, sign, margin, _ = best
+    if margin == 0:
+        # no feet found at either end: the surface's area centroid lies above mid-height
+        tri = v[faces]
+        area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+        c = (tri.mean(axis=1) * area[:, None]).sum(axis=0) / max(area.sum(), 1e-30)
+        mid = 0.5 * (v[:, ax].min() + v[:, ax].max())
+        sign = 1 if c[ax] >= mid else -1
+    return ax, sign
+
+
+def _rotation(up_axis, up_sign, fwd_axis, fwd_sign) -> np.ndarray:
+    """Proper rotation taking file axes to glTF axes: up -> +Y, forward -> +Z."""
+    up = np.zeros(3)
+    up[up_axis] = up_sign
+    fwd = np.zeros(3)
+    fwd[fwd_axis] = fwd_sign
+    left = np.cross(up, fwd)  # becomes +X
+    return np.stack([left, up, fwd])  # rows: new x, y, z in file coordinates
+
+
+def _detect_forward(v, faces, up_axis, up_sign):
+    """The file axis the body faces, from the feet (foot sections lie in front of the ankles)."""
+    others = [a for a in range(3) if a != up_axis]
+    lo, hi = v[:, up_axis].min(), v[:, up_axis].max()
+    length = hi - lo
+    fr = np.array([0.015, 0.10]) if up_sign > 0 else np.array([0.985, 0.90])
+    secs = _sections(v, faces, up_axis, fr, length, lo)
+    # _sections sorts levels ascending; map back to (foot, ankle)
+    by_level = {round(float(s[3]), 9): s for s in secs}
+    foot_lvl = round(float(np.sort(lo + fr * length)[0 if up_sign > 0 else 1]), 9)
+    ankle_lvl = round(float(np.sort(lo + fr * length)[1 if up_sign > 0 else 0]), 9)
+    foot, ankle = by_level.get(foot_lvl), by_level.get(ankle_lvl)
+
+    def centre(sec):
+        per, cen, area, _, _ = sec
+        if not len(per):
+            return None
+        big = per > 0.03 * length
+        if not big.any():
+            return None
+        w = area[big] + 1e-12
+        return (cen[big] * w[:, None]).sum(axis=0) / w.sum()
+
+    cf, ca = (centre(foot), centre(ankle)) if foot and ankle else (None, None)
+    if cf is not None and ca is not None:
+        d = cf - ca
+        if np.hypot(*d) > 0.01 * length:
+            i = int(np.argmax(np.abs(d)))
+            return others[i], (1 if d[i] > 0 else -1), True
+    # the file's own convention: a Y-up file faces +Z, a Z-up file faces -Y, an X-up file +Z
+    if up_axis == 1:
+        return 2, 1, False
+    if up_axis == 2:
+        return 1, -up_sign, False
+    return 2, 1, False
+
+
+# ----------------------------------------------------------------------------------------------
+# the loader
+
+
+def load_scan(path) -> Scan:
+    """Read a body scan (OBJ, PLY, STL, GLB) and bring it to metres, glTF axes, feet on y = 0."""
+    path = Path(path)
+    fmt = EXTENSIONS.get(path.suffix.lower())
+    if fmt is None:
+        raise InputError(f"{path}: unsupported file type {path.suffix or '(none)'!r}; "
+                         "use .obj, .ply, .stl or .glb")
+    if not path.is_file():
+        raise InputError(f"{path}: no such file")
+    _precheck(path, fmt)
+    v, f = _read(path, fmt)
+    if len(f) > MAX_FACES:
+        raise InputError(f"{path}: {len(f):,} faces; at most {MAX_FACES:,} are accepted")
+    if f.min() < 0 or f.max() >= len(v):
+        raise InputError(f"{path}: a face refers to a vertex that does not exist "
+                         "(truncated or corrupt file)")
+    if not np.isfinite(v).all():
+        bad = int(np.count_nonzero(~np.isfinite(v).all(axis=1)))
+        raise InputError(f"{path}: {bad:,} vertices have NaN or infinite coordinates")
+    used = _used(f, len(v))
+    vu = v[used]
+    ext = vu.max(axis=0) - vu.min(axis=0)
+    if ext.max() <= 0 or ext.min() <= 1e-9 * max(ext.max(), 1e-300):
+        raise InputError(f"{path}: degenerate geometry: zero extent along "
+                         f"{AXES[int(np.argmin(ext))]} (flat or a single point)")
+    tri = v[f]
+    area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    tiny = area <= 1e-12 * ext.max() ** 2
+    if np.count_nonzero(tiny) > 0.5 * len(f):
+        raise InputError(f"{path}: degenerate geometry: {np.count_nonzero(tiny):,} of "
+                         f"{len(f):,} faces have zero area")
+    # units from a plausible human height
+    height_file = float(ext.max())
+    unit = None
+    for name, s in UNITS:
+        if HUMAN_HEIGHT[0] <= height_file * s <= HUMAN_HEIGHT[1]:
+            unit = (name, s)
+            break
+    if unit is None:
+        raise InputError(
+            f"{path}: not a human size in any unit: the largest extent is {height_file:.6g} "
+            f"file units, which is not {HUMAN_HEIGHT[0]}–{HUMAN_HEIGHT[1]} m in m, dm, cm or mm")
+    units, scale = unit
+    v = v * scale
+    # weld coincident vertices (STL has none shared; OBJ may split at UV seams)
+    v, f = _merge_vertices(v, f, tol=1e-6)
+    if len(f) == 0:
+        raise InputError(f"{path}: degenerate geometry: every face collapses")
+    holes, components, nonmanifold = _topology_report(f, len(v))
+    up_axis, up_sign = _detect_up(v, f)
+    fwd_axis, fwd_sign, detected = _detect_forward(v, f, up_axis, up_sign)
+    R = _rotation(up_axis, up_sign, fwd_axis, fwd_sign)
+    out = v @ R.T
+    used = _used(f, len(out))
+    lo = out[used].min(axis=0)
+    hi = out[used].max(axis=0)
+    t = np.array([-(lo[0] + hi[0]) / 2, -lo[1], -(lo[2] + hi[2]) / 2])
+    out = out + t
+    T = np.eye(4)
+    T[:3, :3] = R * scale
+    T[:3, 3] = t
+    if used.size != len(out):  # drop unreferenced vertices
+        remap = np.full(len(out), -1, np.int64)
+        remap[used] = np.arange(used.size)
+        out = out[used]
+        f = remap[f]
+    return Scan(
+        path=str(path), vertices=out, faces=f.astype(np.int32), units=units, scale=scale,
+        up=("+" if up_sign > 0 else "-") + AXES[up_axis],
+        forward=("+" if fwd_sign > 0 else "-") + AXES[fwd_axis],
+        forward_detected=detected, transform=T,
+        watertight=bool(holes == 0 and nonmanifold == 0 and components >= 1),
+        holes=int(holes), components=int(components), nonmanifold_edges=int(nonmanifold),
+        meta={"format": fmt, "file_extent": [float(a) for a in ext],
+              },
+    )

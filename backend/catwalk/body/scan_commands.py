@@ -1,0 +1,94 @@
+"""``catwalk body info FILE`` and ``catwalk body measure FILE``: scans and measurements."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from catwalk.errors import InputError
+
+
+def _round(obj, nd=4):
+    if isinstance(obj, float):
+        return round(obj, nd)
+    if isinstance(obj, dict):
+        return {k: _round(v, nd) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_round(v, nd) for v in obj]
+    return obj
+
+
+def dumps(obj, indent: int = 0) -> str:
+    """Indented JSON with short lists (coordinates, matrix rows) kept on one line."""
+    pad = "  " * indent
+    if isinstance(obj, dict):
+        if not obj:
+            return "{}"
+        items = [f'{pad}  {json.dumps(str(k))}: {dumps(v, indent + 1)}' for k, v in obj.items()]
+        return "{\n" + ",\n".join(items) + "\n" + pad + "}"
+    if isinstance(obj, (list, tuple)):
+        if all(not isinstance(v, (dict, list, tuple)) for v in obj):
+            return json.dumps(list(obj))
+        items = [f"{pad}  {dumps(v, indent + 1)}" for v in obj]
+        return "[\n" + ",\n".join(items) + "\n" + pad + "]"
+    return json.dumps(obj)
+
+
+def _info(args) -> int:
+    from catwalk.body.scan import load_scan
+
+    scan = load_scan(args.file)
+    print(dumps(scan.info()))
+    return 0
+
+
+def _measure(args) -> int:
+    from catwalk.body.measure import measure_body
+    from catwalk.body.scan import load_scan
+
+    scan = load_scan(args.file)
+    try:
+        m = measure_body(scan.vertices, scan.faces, sex=args.sex)
+    except InputError as exc:  # name the file: "FILE: measure: no crotch found; …"
+        raise InputError(f"{scan.path}: {exc}") from None
+    inv = np.linalg.inv(scan.transform)
+    lm = m.pop("landmarks")
+    pts = np.array(list(lm.values()), dtype=np.float64)
+    file_pts = pts @ inv[:3, :3].T + inv[:3, 3]
+    out = {
+        "file": scan.path,
+        "sex": args.sex,
+        "units": "m",
+        **m,
+        "landmarks": lm,
+        "frame": "landmarks: metres, +Y up, facing +Z, feet on y = 0, centred on x = z = 0 "
+                 "(landmarks_file: the same points in the file's own coordinates)",
+        "landmarks_file": dict(zip(lm.keys(), file_pts.tolist(), strict=True)),
+        "scan": {"units": scan.units, "up_axis": scan.up, "forward_axis": scan.forward,
+                 "vertices": int(len(scan.vertices)), "faces": int(len(scan.faces))},
+    }
+    print(dumps(_round(out)))
+    return 0
+
+
+def register(top, groups) -> None:
+    body = groups["body"]
+    p = body.add_parser(
+        "info", help="load a body scan (OBJ, PLY, STL, GLB) and report units, axes, holes",
+        description="Load a body scan (OBJ, PLY, STL, GLB): detect its units (m/dm/cm/mm) and "
+                    "up/facing axes, and report vertices, faces, watertightness, holes and "
+                    "components as JSON.")
+    p.add_argument("file", help="scan file (.obj, .ply, .stl, .glb)")
+    p.set_defaults(func=_info)
+
+    p = body.add_parser(
+        "measure", help="measurements and landmarks of a body or scan, as JSON",
+        description="Measure a standing body or scan from its surface (ISO 8559-1 style girths "
+                    "as convex-hull lengths of horizontal sections): height, bust/chest, "
+                    "underbust, waist, hips, inseam, shoulder width, arm length, neck girth "
+                    "(metres) and landmark positions. See docs/bodies-measure.md.")
+    p.add_argument("file", help="body or scan file (.obj, .ply, .stl, .glb)")
+    p.add_argument("--sex", choices=("female", "male"), default=None,
+                   help="female: bust and underbust; male: chest, no underbust")
+    p.set_defaults(func=_measure)

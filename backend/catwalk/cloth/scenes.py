@@ -1,0 +1,43 @@
+"""Small standard scenes: a cloth hanging from pins, the paper-size cloth for the benchmark."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from catwalk.cloth.builder import Panel, build_cloth, rectangle, vertical
+from catwalk.cloth.model import ClothModel, State
+
+#: the paper's dress (§6): 3,372 mass points, 18,623 springs
+PAPER_POINTS = 3372
+PAPER_SPRINGS = 18623
+
+
+def hanging_cloth(width: float = 0.5, height: float = 0.5, h: float = 0.02, fabric="cotton-jersey",
+                  pins: str = "corners", top: float = 1.5) -> tuple[ClothModel, State]:
+    """A ``width`` × ``height`` cloth in the XY plane with its top edge at y = ``top``, pinned
+    at its two top corners (``pins="corners"``), one top corner (``"corner"``) or along its
+    whole top edge (``"edge"``)."""
+    model = build_cloth([Panel(rectangle(width, height), name="cloth",
+                               placement=vertical((-0.5 * width, top - height, 0.0)))],
+                        fabric=fabric, h=h)
+    state = State.from_model(model)
+    top_pts = np.where(np.abs(model.uv[:, 1] - height) < 1e-9)[0]
+    left = top_pts[np.argmin(model.uv[top_pts, 0])]
+    right = top_pts[np.argmax(model.uv[top_pts, 0])]
+    if pins == "corners":
+        state.pinned[[left, right]] = True
+    elif pins == "corner":
+        state.pinned[left] = True
+    elif pins == "edge":
+        state.pinned[top_pts] = True
+    else:
+        raise ValueError(f"pins must be corners, corner or edge, not {pins!r}")
+    return model, state
+
+
+def paper_size_cloth(fabric="cotton-jersey", h: float = 0.015) -> tuple[ClothModel, State]:
+    """A cloth pinned at two corners with about the paper's 3,372 points (58 × 58 grid)."""
+    side = round(math.sqrt(PAPER_POINTS)) - 1  # intervals per side
+    return hanging_cloth(side * h, side * h, h=h, fabric=fabric, pins="corners")

@@ -1,0 +1,505 @@
+"""The collider object: see :mod:`catwalk.collide` for the interface and the method."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from catwalk.collide import bvh as B
+from catwalk.collide import kernels as K
+from catwalk.errors import CatwalkError
+from catwalk.render.raster import (
+    CULL_BACK,
+    CULL_FRONT,
+    clear_depth,
+    ortho_view,
+    raster_kernel,
+    vertex_normals_kernel,
+)
+
+# CPU time of this thread: on a shared machine, wall time also counts other processes' turns
+_clock = time.thread_time
+
+MODES = ("hybrid", "image", "object")
+N_PARTS = 5
+PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
+
+
+@dataclass
+class Skips:
+    """The work-saving shortcuts, each switchable (the benchmark measures what each saves)."""
+
+    unreached_parts: bool = True   # parts whose swept box cannot reach the cloth get no work
+    still_torso: bool = True       # depth maps not re-rendered when the mapped parts did not move
+    far_points: bool = True        # points far from every part skip the narrow phase
+    reuse_closest: bool = True     # closest triangle reused while a point barely moved
+    clearance: bool = True         # a point known to be far skips work until it could touch
+
+
+@dataclass
+class Timings:
+    """Seconds spent, accumulated (reset with :meth:`Collider.reset_stats`)."""
+
+    maps: float = 0.0
+    normals: float = 0.0
+    refit: float = 0.0
+    image_queries: float = 0.0
+    object_queries: float = 0.0
+    frames: int = 0
+    substeps: int = 0
+    maps_rendered: int = 0
+    maps_skipped: int = 0
+    parts_refit: int = 0
+    parts_skipped: int = 0
+    counters: dict = field(default_factory=dict)
+
+
+def face_parts(faces, parts) -> np.ndarray:
+    """Each face's part: the label most of its vertices carry (its first vertex's on a tie)."""
+    p = np.asarray(parts, dtype=np.int64)[np.asarray(faces, dtype=np.int64)]
+    a, b, c = p[:, 0], p[:, 1], p[:, 2]
+    return np.where((b == c) & (a != b), b, a).astype(np.int8)
+
+
+class _Maps:
+    """Front and back depth maps (two slots: the previous and the current frame) of a set of
+    faces, packed for look-ups (see :func:`catwalk.collide.kernels.image_pass`)."""
+
+    def __init__(self, faces, face_ids, size, margin, k=6):
+        f = np.asarray(faces, dtype=np.int64)[face_ids]
+        self.vidx, inv = np.unique(f, return_inverse=True)
+        self.faces = inv.reshape(-1, 3).astype(np.int64)
+        self.size = (int(size[0]), int(size[1]))
+        self.margin = float(margin)
+        w, h = self.size
+        self.D = np.full((h, w, 2, 2), -np.inf, np.float32)   # [row, col, slot, side]
+        self.D[:, :, :, 1] = np.inf
+        self.A = np.zeros((h, w, 2, 2, k), np.float32)       # [row, col, side, slot, attr]
+        self.tri = np.full((2, 2, h, w), -1, np.int32)        # [slot, side, row, col]
+        self.cur = 0
+        self.prev = 0
+        self.keys = [-2, -2]  # the frame drawn in each slot
+        self.matrix = None
+        self.pixel = (0.0, 0.0)
+        self.grid_lo = None
+        self.grid_hi = None
+        self.sv = np.empty((len(self.vidx), 3))
+        self.attrs = np.empty((len(self.vidx), k))
+
+    def fit(self, v_a, v_b) -> bool:
+        """Fit the pixel grid (x, y) to the mapped vertices of both frames, with a margin;
+        keep the old grid while they stay inside it. Returns True when the grid changed."""
+        lo = np.full(3, np.inf)
+        hi = np.full(3, -np.inf)
+        K.bounds_of(v_a, self.vidx, lo, hi)
+        K.bounds_of(v_b, self.vidx, lo, hi)
+        if self.grid_lo is not None and np.all(lo[:2] >= self.grid_lo[:2]) and \
+                np.all(hi[:2] <= self.grid_hi[:2]):
+            return False
+        lo[:2] -= self.margin
+        hi[:2] += self.margin
+        self.grid_lo, self.grid_hi = lo, hi
+        cam = ortho_view(lo, hi, "front", self.size, square_pixels=False)
+        m = cam.matrix.copy()
+        m[2, 3] = 0.0  # depth = world z (towards the front camera)
+        self.matrix = m
+        self.pixel = cam.pixel
+        return True
+
+    def render(self, slot, v, n, w):
+        K.gather(self.matrix, v, n, w, self.vidx, self.sv, self.attrs)
+        for side, cull in ((0, CULL_BACK), (1, CULL_FRONT)):
+            depth = self.D[:, :, slot, side]
+            tri = self.tri[slot, side]
+            clear_depth(side == 1, depth, tri)
+            raster_kernel(self.sv, self.faces, self.attrs, side == 1, depth,
+                          self.A[:, :, side, slot, :], tri, cull)
+
+    def front_back(self, slot):
+        """(front depth, back depth, covered) of a slot, float64 copies."""
+        return (self.D[:, :, slot, 0].astype(np.float64), self.D[:, :, slot, 1].astype(np.float64),
+                self.tri[slot, 0] >= 0)
+
+
+class Collider:
+    """Cloth–body collider (image, object or hybrid); make one with :func:`make_collider`."""
+
+    def __init__(self, mode, body_faces, parts, *, map_size=(256, 256), thickness=0.004,
+                 friction=0.3, contact_slack=0.0005, search_radius=0.02, max_depth=0.02,
+                 reuse_tol=0.002,
+                 leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2,
+                 skips: Skips | None = None):
+        if mode not in MODES:
+            raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
+        faces = np.asarray(body_faces)
+        if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
+            raise CatwalkError(f"body faces must be a non-empty (M, 3) array, got {faces.shape}")
+        parts = np.asarray(parts)
+        if parts.ndim != 1 or (faces.max() >= len(parts)) or faces.min() < 0:
+            raise CatwalkError("parts must give one label per body vertex, covering the faces")
+        if parts.min() < 0 or parts.max() >= N_PARTS:
+            raise CatwalkError("part labels must be 0 (torso+head) … 4 (right leg)")
+        for name, val in (("thickness", thickness), ("search_radius", search_radius),
+                          ("max_depth", max_depth)):
+            if not (np.isfinite(val) and val > 0):
+                raise CatwalkError(f"{name} must be a positive length in metres, got {val!r}")
+        if not (np.isfinite(friction) and friction >= 0):
+            raise CatwalkError(f"friction must be >= 0, got {friction!r}")
+        ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
+        if len(ms) != 2 or min(ms) < 8 or max(ms) > 8192:
+            raise CatwalkError(f"map size must be 8..8192 pixels, got {map_size!r}")
+        self.mode = mode
+        self.faces = np.ascontiguousarray(faces, dtype=np.int64)
+        self._faces32 = self.faces.astype(np.int32)
+        self.parts = parts.astype(np.int8)
+        self.n_vertices = len(parts)
+        self.face_part = face_parts(self.faces, self.parts)
+        self.thickness = float(thickness)
+        self.friction = float(friction)
+        self.contact_slack = float(contact_slack)
+        self.search_radius = float(search_radius)
+        self.max_depth = float(max_depth)
+        self.reuse_tol = float(reuse_tol)
+        self.still_tol = float(still_tol)
+        self.min_normal_z = float(min_normal_z)
+        self.leaf_size = int(leaf_size)
+        self.skips = skips or Skips()
+        in_maps = {"image": range(5), "hybrid": [0], "object": []}[mode]
+        in_tree = {"image": [], "hybrid": [1, 2, 3, 4], "object": range(5)}[mode]
+        self.map_parts = np.zeros(N_PARTS, bool)
+        self.map_parts[list(in_maps)] = True
+        self.tree_parts = np.zeros(N_PARTS, bool)
+        self.tree_parts[list(in_tree)] = True
+        self.tree_parts &= np.bincount(self.face_part, minlength=N_PARTS) > 0
+        in_tree = list(np.nonzero(self.tree_parts)[0])
+        map_faces = np.nonzero(self.map_parts[self.face_part])[0]
+        self.maps = _Maps(self.faces, map_faces, ms, map_margin) if len(map_faces) else None
+        self.map_vidx = self.maps.vidx if self.maps else np.zeros(0, np.int64)
+        self._part_faces = {p: np.nonzero(self.face_part == p)[0] for p in in_tree}
+        self._part_vidx = {p: np.unique(self.faces[f]) for p, f in self._part_faces.items()}
+        self._active_last = np.zeros(N_PARTS, bool)
+        self._clear_frame = -1
+        self._frame_move = 0.0
+        self._no_clear = np.zeros(0)
+        self._tree_vidx = np.unique(self.faces[np.nonzero(self.tree_parts[self.face_part])[0]])
+        # workspaces for the kernels (they run without numba's runtime, so never allocate)
+        self._stack = np.empty(B.STACK_SIZE, np.int64)
+        self._reach_work = np.zeros(N_PARTS, bool)
+        self._fw = np.zeros(24)
+        self._vb = np.zeros((self.n_vertices, 18))
+        self._vp = np.zeros((self.n_vertices, 6), np.float32)
+        self._packed_frame = -1
+        self._iw = np.zeros(12, np.int64)
+        self.tree = None  # built from the first frame's pose
+        self._refit_done = np.zeros(N_PARTS, bool)
+        self._maps_ready = False
+        self._maps_still = False
+        self._normals_ready = False
+        self.v0 = self.v1 = self.w0 = self.w1 = self.n0 = self.n1 = None
+        self._frame = -1
+        self._alpha_last = 0.0
+        self._calls = 0
+        self._calls_last_frame = 0
+        self._substeps = None
+        self._cache_n = -1
+        self.stats = np.zeros(K.N_STATS, np.int64)
+        self.timings = Timings()
+        self._torso_lo = np.zeros(3)
+        self._torso_hi = np.zeros(3)
+
+    # ------------------------------------------------------------------ per frame
+    def update(self, body_vertices, body_velocities=None, substeps: int | None = None) -> None:
+        """Give the body's next frame: world vertices (N,3) and velocities (N,3) (m/s; zero if
+        None). During the following ``resolve`` calls the body moves linearly from the previous
+        frame to this one; ``substeps``: how many resolve calls this frame will have (default:
+        as many as the previous frame had; 1 on the first frame)."""
+        v = np.asarray(body_vertices, dtype=np.float64)
+        if v.shape != (self.n_vertices, 3):
+            raise CatwalkError(f"body vertices must be ({self.n_vertices}, 3), got {v.shape}")
+        if not np.all(np.isfinite(v)):
+            raise CatwalkError("body vertices contain non-finite values")
+        if body_velocities is None:
+            w = np.zeros_like(v)
+        else:
+            w = np.asarray(body_velocities, dtype=np.float64)
+            if w.shape != v.shape or not np.all(np.isfinite(w)):
+                raise CatwalkError(f"body velocities must be finite ({self.n_vertices}, 3)")
+        if substeps is not None and int(substeps) < 1:
+            raise CatwalkError(f"substeps must be >= 1, got {substeps}")
+        first = self.v1 is None
+        if first:
+            self.v0 = v.copy()
+            self.v1 = v.copy()
+            self.w0 = w.copy()
+            self.w1 = w.copy()
+            self.n0 = np.empty_like(v)
+            self.n1 = np.empty_like(v)
+            self._n_valid = [False, False]
+        else:
+            self.v0, self.v1 = self.v1, self.v0
+            self.w0, self.w1 = self.w1, self.w0
+            self.n0, self.n1 = self.n1, self.n0
+            self._n_valid = [self._n_valid[1], False]
+            self.v1[:] = v
+            self.w1[:] = w
+        self._frame += 1
+        self._calls_last_frame = self._calls if not first else 0
+        self._calls = 0
+        self._substeps = int(substeps) if substeps is not None else (
+            self._calls_last_frame or None)
+        self._alpha_last = 0.0
+        self._refit_done[:] = False
+        self._normals_ready = False
+        self._maps_ready = False
+        self.timings.frames += 1
+        if first and self.tree_parts.any():
+            self.tree = B.build(v, self.faces, self._part_faces, self.leaf_size)
+        if self.maps is not None:
+            self._torso_lo[:] = np.inf
+            self._torso_hi[:] = -np.inf
+            K.bounds_of(self.v0, self.map_vidx, self._torso_lo, self._torso_hi)
+            K.bounds_of(self.v1, self.map_vidx, self._torso_lo, self._torso_hi)
+            pad = self.thickness + self.search_radius
+            self._torso_lo -= pad
+            self._torso_hi += pad
+            moved = K.max_displacement(self.v0, self.v1, self.map_vidx)
+            wmoved = K.max_displacement(self.w0, self.w1, self.map_vidx)
+            self._maps_still = (not first) and self.skips.still_torso and \
+                moved <= self.still_tol and wmoved <= self.still_tol
+
+    def _ensure_normals(self):
+        if self._normals_ready:
+            return
+        t = _clock()
+        if not self._n_valid[1]:
+            vertex_normals_kernel(self.v1, self.faces, self.n1)
+            self._n_valid[1] = True
+        if not self._n_valid[0]:
+            if self._frame == 0:
+                self.n0[:] = self.n1
+            else:
+                vertex_normals_kernel(self.v0, self.faces, self.n0)
+            self._n_valid[0] = True
+        self._normals_ready = True
+        self.timings.normals += _clock() - t
+
+    def _ensure_maps(self):
+        if self._maps_ready:
+            return
+        self._ensure_normals()
+        t = _clock()
+        mp = self.maps
+        f = self._frame
+        if mp.fit(self.v0, self.v1):
+            mp.keys = [-2, -2]  # a new grid: nothing drawn on it yet
+        if f == 0:
+            mp.render(0, self.v1, self.n1, self.w1)
+            mp.keys = [0, -2]
+            mp.prev = mp.cur = 0
+            self.timings.maps_rendered += 1
+        else:
+            sp = mp.keys.index(f - 1) if (f - 1) in mp.keys else None
+            if self._maps_still and sp is not None:
+                mp.prev = mp.cur = sp
+                mp.keys[sp] = f  # frame f looks the same as frame f − 1
+                self.timings.maps_skipped += 1
+            else:
+                if sp is None:
+                    sp = 0
+                    mp.render(sp, self.v0, self.n0, self.w0)
+                    mp.keys[sp] = f - 1
+                    self.timings.maps_rendered += 1
+                sc = 1 - sp
+                mp.render(sc, self.v1, self.n1, self.w1)
+                mp.keys[sc] = f
+                mp.prev, mp.cur = sp, sc
+                self.timings.maps_rendered += 1
+        self._maps_ready = True
+        self.timings.maps += _clock() - t
+
+    def _refit(self, active):
+        need = active & ~self._refit_done
+        if not need.any():
+            return
+        self._ensure_normals()
+        t = _clock()
+        h = self.tree
+        for p in np.nonzero(need)[0]:
+            B.refit(self.v0, self.v1, self.faces, h.bounds, h.links, h.tris, h.root[p], h.end[p])
+            self._refit_done[p] = True
+            self.timings.parts_refit += 1
+        self.timings.refit += _clock() - t
+
+    # ------------------------------------------------------------------ per substep
+    def resolve(self, positions, velocities, previous_positions, alpha: float | None = None):
+        """Collide cloth points with the body at this substep; fixes ``positions`` and
+        ``velocities`` (float64 (P,3), C-contiguous) in place and returns the held mask (P,)
+        bool. ``alpha``: the substep's time in [0, 1] between the previous and the current
+        body frame (default: from the substep count, see :meth:`update`)."""
+        if self.v1 is None:
+            raise CatwalkError("collider.update(body) must be called before resolve()")
+        pos, vel, prev = positions, velocities, previous_positions
+        for name, a in (("positions", pos), ("velocities", vel)):
+            if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.ndim == 2 and
+                    a.shape[1] == 3 and a.flags.c_contiguous and a.flags.writeable):
+                raise CatwalkError(f"{name} must be a writable C-contiguous float64 (P, 3) array")
+        if vel.shape != pos.shape:
+            raise CatwalkError("positions and velocities differ in shape")
+        prev = np.ascontiguousarray(prev, dtype=np.float64)
+        if prev.shape != pos.shape:
+            raise CatwalkError("previous positions differ in shape from positions")
+        n = len(pos)
+        self._calls += 1
+        if alpha is None:
+            alpha = 1.0 if not self._substeps else min(self._calls / self._substeps, 1.0)
+        alpha = float(alpha)
+        if not 0.0 <= alpha <= 1.0:
+            raise CatwalkError(f"alpha must be in [0, 1], got {alpha}")
+        alpha_prev = min(self._alpha_last, alpha)
+        self._alpha_last = alpha
+        self.timings.substeps += 1
+        held = np.zeros(n, dtype=bool)
+        if n == 0:
+            return held
+        lo = np.full(3, np.inf)
+        hi = np.full(3, -np.inf)
+        K.bounds(pos, lo, hi)
+        K.bounds(prev, lo, hi)
+        if self.tree is not None:
+            self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held)
+        if self.maps is not None:
+            self._image(pos, vel, alpha, lo, hi, held)
+        return held
+
+    def _active_tree_parts(self, lo, hi):
+        """Parts in hierarchies whose swept box (dilated) reaches the cloth's box."""
+        active = self.tree_parts.copy()
+        if not self.skips.unreached_parts:
+            return active
+        pad = self.search_radius + self.thickness
+        for p in np.nonzero(active)[0]:
+            vi = self._part_vidx[p]
+            # a cheap bound without refitting: the part's vertices at both frames
+            plo = np.full(3, np.inf)
+            phi = np.full(3, -np.inf)
+            K.bounds_of(self.v0, vi, plo, phi)
+            K.bounds_of(self.v1, vi, plo, phi)
+            plo -= pad
+            phi += pad
+            if np.any(plo > hi) or np.any(phi < lo):
+                active[p] = False
+        return active
+
+    def _part_reach_cache(self, lo, hi):
+        key = (self._frame,)
+        if getattr(self, "_reach_key", None) != key or self._reach_box is None or \
+                np.any(lo < self._reach_box[0]) or np.any(hi > self._reach_box[1]):
+            # recompute once per frame for a cloth box grown by a margin
+            m = 0.05
+            blo, bhi = lo - m, hi + m
+            act = self._active_tree_parts(blo, bhi)
+            self._reach_key = key
+            self._reach_box = (blo, bhi)
+            self._reach = act
+            n_off = int((self.tree_parts & ~act).sum())
+            self.timings.parts_skipped += n_off
+        return self._reach
+
+    def _object(self, pos, vel, prev, alpha, alpha_prev, lo, hi, held):
+        active = self._part_reach_cache(lo, hi) if self.skips.unreached_parts else \
+            self.tree_parts
+        if not active.any():
+            self.stats[K.ST_SKIPPED] += len(pos)
+            return
+        self._refit(active)
+        n = len(pos)
+        if self._cache_n != n:
+            self._cache_tri = np.full(n, -1, np.int64)
+            self._cache_p = np.zeros((n, 3))
+            self._cache_c = np.zeros((n, 3))
+            self._clear = np.zeros(n)
+            self._clear_rel = np.zeros(n)
+            self._cache_n = n
+        if np.any(active & ~self._active_last):
+            self._clear_rel[:] = 0.0  # a part came into play: no clearance bounds it
+        if self._clear_frame != self._frame or np.any(active & ~self._active_last):
+            # clearances hold against this frame's swept boxes of the parts then in play
+            self._clear[:] = 0.0
+            self._clear_frame = self._frame
+            # how far any vertex of the parts in play moves during this frame
+            vi = self._tree_vidx
+            self._frame_move = K.max_displacement(self.v0, self.v1, vi) * np.sqrt(3.0)
+        self._active_last = active.copy()
+        body_step = self._frame_move * max(alpha - alpha_prev, 0.0)
+        h = self.tree
+        t = _clock()
+        if self._packed_frame != self._frame:
+            t = _clock()
+            K.pack_body(self.v0, self.v1, self.n0, self.n1, self.w0, self.w1, self._vb,
+                        self._vp)
+            self._packed_frame = self._frame
+            self.timings.normals += _clock() - t
+        K.object_pass(pos, vel, prev, alpha, alpha_prev, self._vb, self._vp, self.faces,
+                      self.face_part,
+                      h.bounds, h.links, h.tris,
+                      h.root, active, lo, hi, self.thickness, self.friction, self.contact_slack,
+                      self.search_radius, self.max_depth, self.skips.far_points,
+                      self.skips.reuse_closest, self.reuse_tol, self.skips.clearance, body_step,
+                      self._cache_tri, self._cache_p, self._cache_c, self._clear,
+                      self._clear_rel, held, self.stats, self._stack, self._reach_work)
+        self.timings.object_queries += _clock() - t
+
+    def _image(self, pos, vel, alpha, lo, hi, held):
+        if self.skips.unreached_parts and (np.any(self._torso_lo > hi) or
+                                           np.any(self._torso_hi < lo)):
+            self.stats[K.ST_SKIPPED] += len(pos)
+            return
+        self._ensure_maps()
+        mp = self.maps
+        t = _clock()
+        K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, self._torso_lo,
+                     self._torso_hi, self.thickness, self.friction, self.contact_slack,
+                     self.min_normal_z, self.skips.far_points, held, self.stats, self._fw,
+                     self._iw, *self._clearances(len(pos)))
+        self.timings.image_queries += _clock() - t
+
+    def _clearances(self, n):
+        if self.tree is not None and self._cache_n == n:
+            return self._clear, self._clear_rel
+        return self._no_clear, self._no_clear
+
+    # ------------------------------------------------------------------ reports
+    def reset_stats(self) -> None:
+        self.stats[:] = 0
+        self.timings = Timings()
+
+    def depth_maps(self):
+        """(front depth (H,W), back depth (H,W), covered (H,W) bool, matrix 3×4) of the current
+        frame, or None when this mode has no maps."""
+        if self.maps is None or self.v1 is None:
+            return None
+        self._ensure_maps()
+        f, b, cov = self.maps.front_back(self.maps.cur)
+        return f, b, cov, self.maps.matrix.copy()
+
+    def describe(self) -> dict:
+        d = {"mode": self.mode, "thickness": self.thickness, "friction": self.friction,
+             "map_parts": [PART_NAMES[p] for p in np.nonzero(self.map_parts)[0]],
+             "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]]}
+        if self.maps is not None:
+            d["map_size"] = list(self.maps.size)
+        if self.tree is not None:
+            d["hierarchy_nodes"] = int(self.tree.n_nodes)
+            d["triangle_duplication"] = round(float(self.tree.dup), 3)
+        return d
+
+
+def make_collider(mode, body_faces, parts, **options) -> Collider:
+    """A collider in ``mode`` (``hybrid``: torso+head in depth maps, limbs in hierarchies;
+    ``image``: the whole body in depth maps; ``object``: every part in hierarchies) for a body
+    with faces (M,3) and per-vertex ``parts`` (N,) (0 torso+head, 1 left arm, 2 right arm,
+    3 left leg, 4 right leg). Options: see :class:`Collider` (thickness, friction, map_size,
+    search_radius, max_depth, reuse_tol, leaf_size, skips=Skips(...))."""
+    return Collider(mode, body_faces, parts, **options)

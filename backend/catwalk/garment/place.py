@@ -1,0 +1,193 @@
+"""Placing cut pieces around a body from its landmarks (paper §5: "automatically positioned").
+
+:func:`place_panels` turns each panel's placement hint into a rigid transform of its pattern
+plane (u, v, 0) → world and, for panels that wrap round their body part, a cylinder (axis point,
+axis direction, radius) on which the flat placement is bent. Each result's ``to_world(uv)``
+is what :class:`catwalk.cloth.builder.Panel` takes as ``placement``.
+
+Conventions (world = glTF: +Y up, the body faces +Z, its left is +X; pattern coordinates are
+seen from outside the garment, +v up):
+
+- torso / legs, side ``front``: the panel faces +Z, +u → +X (the body's left); ``back``: faces
+  −Z, +u → −X; ``left``: faces +X, +u → −Z; ``right``: faces −X, +u → +Z;
+- arms: +v runs from the wrist to the shoulder along the arm, the panel faces outwards
+  (±X) and +u points to the front on the right arm, to the back on the left arm (a sleeve
+  drafted with its front on +u is a right sleeve; its mirrored copy is the left one);
+- the panel point at ``anchor_vertex`` (numbered as stored; mapped into mirrored copies and
+  opened folds) / ``anchor_point`` (default: the top centre of its
+  bounding box) goes to the ``anchor`` landmark (default by part: neck_base, waist,
+  shoulder_left / shoulder_right), moved out to the part's surface + ``distance`` and by
+  ``offset``; ``rotation`` turns the panel about its outward normal;
+- ``wrap``: torso and legs panels bend round a vertical cylinder of the part's radius +
+  ``distance``; sleeves round their arm's axis with the radius that closes them
+  (width / 2π).
+
+Landmarks are a dict name → [x, y, z] (metres), as :mod:`catwalk.body.measure` finds them
+(``neck_base``, ``shoulder_left``, ``wrist_left``, ``waist``, ``knee_left``, …; the torso
+landmarks are centres of sections, and only their height is used for torso panels;
+``neck_front`` and ``neck_back`` are accepted as aliases of ``neck_base``). Radii come from
+``girths`` (``bust``, ``waist``, ``hips`` in metres; the largest torso girth sets the torso
+cylinder) or default to a medium body's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from catwalk.errors import InputError
+from catwalk.garment.model import Garment, Placement, cut_pieces, piece_vertex
+
+DEFAULT_GIRTHS = {"bust": 0.98, "waist": 0.80, "hips": 1.06}
+ARM_RADIUS = 0.05
+LEG_RADIUS = 0.09
+DEFAULT_ANCHOR = {"torso": {"front": "neck_base", "back": "neck_base"},
+                  "legs": "waist", "left_leg": "waist", "right_leg": "waist",
+                  "left_arm": "shoulder_left", "right_arm": "shoulder_right"}
+
+
+@dataclass
+class PanelPlacement:
+    name: str
+    matrix: np.ndarray                  # (3, 4): world = M @ [u, v, 0, 1] (flat placement)
+    cylinder: tuple | None              # (axis point (3,), axis direction (3,), radius) or None
+    to_world: Callable[[np.ndarray], np.ndarray]
+
+
+def _frame(part: str, side: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(e_u, e_v, outward normal) for a panel on ``part`` seen from ``side``."""
+    y = np.array([0.0, 1.0, 0.0])
+    normals = {"front": np.array([0.0, 0.0, 1.0]), "back": np.array([0.0, 0.0, -1.0]),
+               "left": np.array([1.0, 0.0, 0.0]), "right": np.array([-1.0, 0.0, 0.0])}
+    n = normals[side]
+    e_u = np.cross(y, n)   # viewer's right when looking at the panel from outside
+    return e_u, y, n
+
+
+# names other bodies may use for the same place
+ALIASES = {"neck_front": ("neck_base", "neck"), "neck_back": ("neck_base", "neck"),
+           "neck_base": ("neck",), "chest": ("bust",), "bust": ("chest",),
+           "head_top": ("top_of_head",)}
+
+
+def _landmark(landmarks: dict, name: str, panel: str) -> np.ndarray:
+    if name not in landmarks:
+        for alt in ALIASES.get(name, ()):
+            if alt in landmarks:
+                name = alt
+                break
+    if name not in landmarks:
+        raise InputError(f"panel {panel!r}: the body has no landmark {name!r} (it has: "
+                         f"{', '.join(sorted(landmarks)) or 'none'})")
+    p = np.asarray(landmarks[name], dtype=float)
+    if p.shape != (3,):
+        raise InputError(f"landmark {name!r} is not a 3D point")
+    return p
+
+
+def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
+                 girths: dict | None = None, tolerance: float = 2e-3) -> list[PanelPlacement]:
+    """A placement per cut piece (same order as :func:`catwalk.garment.model.cut_pieces`)."""
+    gi = dict(DEFAULT_GIRTHS, **(girths or {}))
+    torso_r = max(gi["bust"], gi["waist"], gi["hips"]) / (2 * math.pi)
+    hips_r = gi["hips"] / (2 * math.pi)
+    size = garment.size(size)
+    pieces, _ = cut_pieces(garment, size, tolerance)
+    central = [np.asarray(landmarks[k], float) for k in
+               ("neck_base", "neck", "bust", "underbust", "waist", "hips", "crotch")
+               if k in landmarks]
+    axis_xz = np.mean([p[[0, 2]] for p in central], axis=0) if central else np.zeros(2)
+    out = []
+    for piece in pieces:
+        pl = piece.panel.placement or Placement()
+        pts = piece.flat.points
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        if pl.anchor_vertex is not None:
+            a_uv = piece_vertex(garment, piece, pl.anchor_vertex, size)
+        elif pl.anchor_point is not None:
+            a_uv = np.asarray(pl.anchor_point, dtype=float)
+        else:
+            a_uv = np.array([0.5 * (lo[0] + hi[0]), hi[1]])
+        offset = np.asarray(pl.offset, float)
+        if pl.transform is not None:   # an explicit 3D placement (e.g. from GarmentCode)
+            r = np.asarray(pl.transform["rotation"], float)
+            t = np.asarray(pl.transform["translation"], float) + offset
+            m = np.concatenate([r[:, :2], t[:, None]], axis=1)
+            out.append(PanelPlacement(piece.name, m, None, _flat(m, a_uv, 0.0)))
+            continue
+        part = pl.part
+        if pl.anchor:
+            anchor_name = pl.anchor
+        elif part == "torso":
+            anchor_name = DEFAULT_ANCHOR["torso"]["back" if pl.side == "back" else "front"]
+        else:
+            anchor_name = DEFAULT_ANCHOR[part]
+        anchor = _landmark(landmarks, anchor_name, piece.name)
+        if part in ("left_arm", "right_arm"):
+            side = "left" if part == "left_arm" else "right"
+            sign = 1.0 if side == "left" else -1.0
+            wrist = landmarks.get(f"wrist_{side}")
+            d = (anchor - np.asarray(wrist, float)) if wrist is not None \
+                else np.array([-0.3 * sign, 1.0, 0.0])   # arms hanging a little apart
+            d = d / np.linalg.norm(d)
+            n = np.array([sign, 0.0, 0.0]) - sign * d[0] * d
+            n /= np.linalg.norm(n)
+            e_v = d
+            e_u = np.cross(e_v, n)
+            centre = anchor
+            radius = (hi[0] - lo[0]) / (2 * math.pi) if pl.wrap else ARM_RADIUS + pl.distance
+        else:
+            e_u, e_v, n = _frame(part, pl.side)
+            d = np.array([0.0, 1.0, 0.0])
+            if part == "torso":
+                r0, cx = torso_r, axis_xz[0]
+            elif part == "legs":
+                r0, cx = hips_r, axis_xz[0]
+            else:
+                r0 = LEG_RADIUS
+                knee = landmarks.get("knee_left" if part == "left_leg" else "knee_right")
+                cx = (float(knee[0]) if knee is not None else
+                      axis_xz[0] + (0.5 if part == "left_leg" else -0.5) * hips_r)
+            centre = np.array([cx, 0.0, axis_xz[1]])
+            radius = r0 + pl.distance
+        foot = centre + np.dot(anchor - centre, d) * d        # the anchor's height on the axis
+        surface = foot + radius * n + offset                  # where the anchor point goes
+        m = np.stack([e_u, e_v, surface - a_uv[0] * e_u - a_uv[1] * e_v], axis=1)
+        cyl = (centre + offset, d, float(radius)) if pl.wrap else None
+        to_world = (_wrapped(a_uv, surface, e_u, e_v, n, cyl, pl.rotation) if cyl
+                    else _flat(m, a_uv, pl.rotation))
+        out.append(PanelPlacement(piece.name, m, cyl, to_world))
+    return out
+
+
+def _rotate(uv: np.ndarray, a_uv: np.ndarray, degrees: float) -> np.ndarray:
+    if not degrees:
+        return uv
+    a = math.radians(degrees)
+    r = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+    return (uv - a_uv) @ r.T + a_uv
+
+
+def _flat(m: np.ndarray, a_uv: np.ndarray, degrees: float):
+    def to_world(uv: np.ndarray) -> np.ndarray:
+        uv = _rotate(np.asarray(uv, float), a_uv, degrees)
+        return uv @ m[:, :2].T + m[:, 2]
+    return to_world
+
+
+def _wrapped(a_uv, surface, e_u, e_v, n, cyl, degrees: float):
+    """Bend the flat placement round the cylinder: arc length along e_u is kept."""
+    centre, d, radius = cyl
+
+    def to_world(uv: np.ndarray) -> np.ndarray:
+        uv = _rotate(np.asarray(uv, float), a_uv, degrees)
+        du, dv = uv[:, 0] - a_uv[0], uv[:, 1] - a_uv[1]
+        flat = surface[None] + dv[:, None] * e_v[None]
+        along = (flat - centre[None]) @ d
+        phi = du / radius
+        return (centre[None] + along[:, None] * d[None]
+                + radius * (np.sin(phi)[:, None] * e_u[None] + np.cos(phi)[:, None] * n[None]))
+    return to_world

@@ -1,0 +1,37 @@
+import math
+
+import numpy as np
+import pytest
+
+from catwalk.cloth.builder import Panel, build_cloth, circle, horizontal
+from catwalk.cloth.drape import DISC_RADIUS, SPECIMEN_RADIUS, cusick_drape, drape_coefficient
+from catwalk.cloth.fabrics import get_fabric
+
+
+def test_drape_coefficient_of_flat_and_fully_hanging_specimens():
+    m = build_cloth([Panel(circle(SPECIMEN_RADIUS, 128), placement=horizontal(0.5))], h=0.02)
+    poly = 0.5 * 128 * SPECIMEN_RADIUS ** 2 * math.sin(2 * math.pi / 128)
+    disc = math.pi * DISC_RADIUS ** 2
+    flat = (poly - disc) / (math.pi * SPECIMEN_RADIUS ** 2 - disc)
+    assert drape_coefficient(m, m.rest_positions) == pytest.approx(flat, abs=0.01)
+    # everything outside the disc folded straight down: the shadow is the disc
+    x = m.rest_positions.copy()
+    r = np.hypot(x[:, 0], x[:, 2])
+    out = r > DISC_RADIUS
+    x[out, 0] *= DISC_RADIUS / r[out] * 0.999
+    x[out, 2] *= DISC_RADIUS / r[out] * 0.999
+    x[out, 1] -= r[out] - DISC_RADIUS
+    assert drape_coefficient(m, x) == pytest.approx(0.0, abs=0.02)
+
+
+def test_drape_coefficient_rises_with_bending_stiffness():
+    base = get_fabric("m3")
+    dcs = []
+    for scale in (0.3, 3.0, 30.0):
+        fab = base.with_(bend_warp=base.bend_warp * scale, bend_weft=base.bend_weft * scale)
+        r = cusick_drape(fab, h=0.02, max_seconds=3.0)
+        assert r.seconds > 2.0
+        assert np.all(r.state.positions[:, 1] < 0.5 + 0.01)  # lies on the disc, hangs below
+        dcs.append(r.dc)
+    assert 0.0 < dcs[0] < dcs[1] < dcs[2] < 1.0
+    assert dcs[2] - dcs[0] > 0.15

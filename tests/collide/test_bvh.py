@@ -1,0 +1,99 @@
+import numpy as np
+
+from catwalk.collide import bvh as B
+from catwalk.collide.collider import face_parts
+from catwalk.collide.shapes import Mannequin, walk_pose
+
+
+def _body():
+    m = Mannequin(0.6)
+    return m, face_parts(m.faces, m.parts)
+
+
+def test_every_triangle_is_in_a_leaf_of_its_part_and_duplication_is_bounded():
+    m, fp = _body()
+    parts = {p: np.nonzero(fp == p)[0] for p in range(1, 5)}
+    h = B.build(m.rest, m.faces, parts, leaf_size=8)
+    assert h.root[0] == h.end[0]  # no torso hierarchy asked for
+    for p, ids in parts.items():
+        nodes = np.arange(h.root[p], h.end[p])
+        leaves = nodes[h.links[nodes, 0] < 0]
+        got = np.concatenate([h.tris[h.links[n, 2]:h.links[n, 2] + h.links[n, 3]]
+                              for n in leaves])
+        assert set(got) == set(ids)
+        # children come after their parent (pre-order), inside the part's range
+        inner = nodes[h.links[nodes, 0] >= 0]
+        assert np.all(h.links[inner, 0] > inner) and np.all(h.links[inner, 1] > inner)
+        assert np.all(h.links[inner, :2] < h.end[p])
+    assert 1.0 <= h.dup < 4.0  # triangles copied across split planes
+
+
+def test_refit_boxes_contain_the_swept_triangles():
+    m, fp = _body()
+    parts = {p: np.nonzero(fp == p)[0] for p in range(1, 5)}
+    h = B.build(m.rest, m.faces, parts)
+    v0 = m.vertices(walk_pose(0.0))
+    v1 = m.vertices(walk_pose(0.1))
+    for p in parts:
+        B.refit(v0, v1, m.faces, h.bounds, h.links, h.tris, h.root[p], h.end[p])
+    for n in range(h.n_nodes):
+        if h.links[n, 0] >= 0:
+            kids = h.links[n, :2]
+            assert np.all(h.bounds[n, :3] <= h.bounds[kids, :3].min(axis=0))
+            assert np.all(h.bounds[n, 3:] >= h.bounds[kids, 3:].max(axis=0))
+            continue
+        t = h.tris[h.links[n, 2]:h.links[n, 2] + h.links[n, 3]]
+        pts = np.concatenate([v0[m.faces[t]].reshape(-1, 3), v1[m.faces[t]].reshape(-1, 3)])
+        assert np.all(pts >= h.bounds[n, :3] - 1e-12) and np.all(pts <= h.bounds[n, 3:] + 1e-12)
+
+
+def _brute(p, v, faces, ids):
+    best = (np.inf, -1)
+    for t in ids:
+        a, b, c = v[faces[t]]
+        vv, ww = B.closest_on_triangle(*p, *a, *b, *c)
+        q = a + vv * (b - a) + ww * (c - a)
+        d = float(np.sum((p - q) ** 2))
+        if d < best[0]:
+            best = (d, t)
+    return best
+
+
+def test_closest_triangle_matches_brute_force_at_any_time_of_the_frame():
+    m, fp = _body()
+    arm = np.nonzero(fp == 1)[0]
+    h = B.build(m.rest, m.faces, {1: arm})
+    v0 = m.vertices(walk_pose(0.0))
+    v1 = m.vertices(walk_pose(0.1))
+    B.refit(v0, v1, m.faces, h.bounds, h.links, h.tris, h.root[1], h.end[1])
+    rng = np.random.default_rng(0)
+    stack = np.empty(128, np.int64)
+    vb = np.hstack([v0, v1]).astype(np.float32)
+    centre = v0[m.faces[arm]].reshape(-1, 3).mean(axis=0)
+    for _ in range(60):
+        alpha = rng.random()
+        va = (1 - alpha) * v0 + alpha * v1
+        p = centre + rng.normal(0, 0.08, 3)
+        d2, t, nodes, tested, leaf_d2 = B.closest_triangle(
+            *p, vb, m.faces.astype(np.int64), alpha, h.bounds, h.links, h.tris,
+            h.root[1], np.inf, -1, stack)
+        bd2, bt = _brute(p, va, m.faces, arm)
+        assert np.isclose(d2, bd2, rtol=1e-5, atol=1e-12)  # float32 positions
+        assert tested < len(arm) / 3  # the hierarchy prunes
+        assert leaf_d2 <= d2 + 1e-15
+        # within a radius: nothing found beyond it
+        r2 = 0.25 * bd2
+        d2r, tr, *_ = B.closest_triangle(*p, vb, m.faces.astype(np.int64), alpha,
+                                          h.bounds, h.links, h.tris, h.root[1], r2, -1, stack)
+        assert tr == -1 and d2r == r2
+
+
+def test_closest_on_triangle_regions():
+    a, b, c = np.array([0.0, 0, 0]), np.array([1.0, 0, 0]), np.array([0.0, 1, 0])
+    cases = {(0.2, 0.2, 1.0): (0.2, 0.2), (-1.0, -1.0, 0.0): (0.0, 0.0),
+             (2.0, -0.5, 0.0): (1.0, 0.0), (-0.5, 3.0, 0.3): (0.0, 1.0),
+             (0.5, -1.0, 0.0): (0.5, 0.0), (1.0, 1.0, 0.0): (0.5, 0.5)}
+    for p, (vv, ww) in cases.items():
+        got = B.closest_on_triangle(*p, *a, *b, *c)
+        q = a + got[0] * (b - a) + got[1] * (c - a)
+        np.testing.assert_allclose(q, a + vv * (b - a) + ww * (c - a), atol=1e-12)

@@ -1,0 +1,290 @@
+import numpy as np
+import pytest
+from scipy.ndimage import binary_dilation
+
+from catwalk.collide import MODES, Skips, make_collider
+from catwalk.collide.collider import face_parts
+from catwalk.collide.shapes import Mannequin, capsule, figure10_pose, sphere, walk_pose
+from catwalk.errors import CatwalkError
+from catwalk.render.raster import ortho_view, rasterize
+
+T = 0.004  # default cloth thickness
+
+
+def _inscribed(v, f, centre):
+    """Distance from centre to the nearest face plane: the mesh's inscribed radius."""
+    a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+    n = np.cross(b - a, c - a)
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    return float(np.min(np.einsum("ij,ij->i", a - centre, n)))
+
+
+def _shell(n, centre, r_lo, r_hi, seed=0):
+    rng = np.random.default_rng(seed)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    return np.asarray(centre) + d * rng.uniform(r_lo, r_hi, n)[:, None]
+
+
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize("part", [0, 1])
+def test_no_point_ends_inside_a_sphere(mode, part):
+    centre = np.array([0.0, 1.2, 0.0])
+    R = 0.15
+    v, f = sphere(centre, R, 64, 32)
+    c = make_collider(mode, f, np.full(len(v), part, np.int8))
+    c.update(v)
+    pos = _shell(2000, centre, R - 0.012, R + 0.03)
+    before = pos.copy()
+    vel = np.zeros_like(pos)
+    held = c.resolve(pos, vel, before.copy())
+    r_in = _inscribed(v, f, centre)
+    dist = np.linalg.norm(pos - centre, axis=1)
+    assert dist.min() >= r_in  # nothing inside the (tessellated) body
+    was_inside = np.linalg.norm(before - centre, axis=1) < r_in
+    assert was_inside.sum() > 300 and held[was_inside].all()
+    # pushed out to the surface plus about the thickness
+    assert np.median(dist[was_inside]) == pytest.approx(R + T, abs=0.002)
+    # points well clear are untouched and not held
+    far = np.linalg.norm(before - centre, axis=1) > R + 0.012
+    assert np.array_equal(pos[far], before[far]) and not held[far].any()
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_no_point_ends_inside_a_capsule(mode):
+    a, b, r = np.array([0.0, 0.9, 0.0]), np.array([0.0, 1.4, 0.0]), 0.06
+    v, f = capsule(a, b, r, n_around=48, n_cap=10, n_body=20)
+    c = make_collider(mode, f, np.full(len(v), 2, np.int8))  # a right arm
+    c.update(v)
+    rng = np.random.default_rng(3)
+    y = rng.uniform(1.0, 1.3, 3000)
+    ang = rng.uniform(0, 2 * np.pi, 3000)
+    rad = rng.uniform(r - 0.01, r + 0.02, 3000)
+    pos = np.c_[rad * np.cos(ang), y, rad * np.sin(ang)]
+    c.resolve(pos, np.zeros_like(pos), pos.copy())
+    axial = np.hypot(pos[:, 0], pos[:, 2])
+    r_in = r * np.cos(np.pi / 48)
+    assert axial.min() >= r_in
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_response_sets_normal_velocity_and_applies_coulomb_friction(mode):
+    centre = np.array([0.0, 1.2, 0.0])
+    v, f = sphere(centre, 0.15, 96, 48)
+    part = 0 if mode != "object" else 3
+    c = make_collider(mode, f, np.full(len(v), part, np.int8), friction=0.3)
+    body_v = np.zeros_like(v)
+    body_v[:, 0] = 0.5  # the body slides along +x at 0.5 m/s
+    c.update(v, body_v)
+    # a point on the front (normal +z), 2 mm inside, moving into the body
+    pos = np.array([[0.0, 1.2, 0.148]])
+    vel = np.array([[1.5, 0.0, -2.0]])
+    held = c.resolve(pos, vel, pos.copy())
+    assert held[0]
+    assert pos[0, 2] == pytest.approx(0.15 + T, abs=5e-4)
+    # normal velocity becomes the body's (0); relative tangential 1.0 m/s loses 0.3 · 2 m/s
+    np.testing.assert_allclose(vel[0], [0.5 + 0.4, 0.0, 0.0], atol=0.02)
+
+
+@pytest.mark.parametrize("mode", ["object", "hybrid"])
+def test_a_limb_at_3_m_s_does_not_tunnel_through_cloth(mode):
+    # an arm (capsule, radius 4 cm) sweeps through a sheet of free cloth points at 3 m/s;
+    # frames at 30 fps move it 10 cm (more than its diameter); 10 substeps per frame
+    r, fps, nsub, speed = 0.04, 30.0, 10, 3.0
+    a0, b0 = np.array([0.0, 1.0, -0.2]), np.array([0.0, 1.3, -0.2])
+    v_rest, f = capsule(a0, b0, r, n_around=32, n_cap=8, n_body=12)
+    c = make_collider(mode, f, np.full(len(v_rest), 1, np.int8))
+    xs, ys = np.meshgrid(np.linspace(-0.05, 0.05, 11), np.linspace(1.05, 1.25, 11))
+    pos = np.c_[xs.ravel(), ys.ravel(), np.zeros(xs.size)]
+    vel = np.zeros_like(pos)
+    dt = 1.0 / (fps * nsub)
+    n_frames = 6  # the arm's axis goes from z = -0.2 to +0.4
+    body_vel = np.tile([0.0, 0.0, speed], (len(v_rest), 1))
+    for k in range(n_frames + 1):
+        shift = np.array([0.0, 0.0, speed * k / fps])
+        c.update(v_rest + shift, body_vel)
+        for s in range(1, nsub + 1 if k else 1):
+            prev = pos.copy()
+            pos += vel * dt
+            c.resolve(pos, vel, prev, alpha=s / nsub)
+            # after every substep: no point inside the arm at its position then
+            z_axis = -0.2 + speed * ((k - 1) / fps + s * dt)
+            axial = np.hypot(pos[:, 0], pos[:, 2] - z_axis)
+            in_span = (pos[:, 1] > 1.0) & (pos[:, 1] < 1.3)
+            assert np.all(axial[in_span] >= r * np.cos(np.pi / 32) - 1e-9)
+    # the points in the arm's path were pushed ahead of it, none left behind
+    z_end = -0.2 + speed * n_frames / fps
+    hit = np.abs(pos[:, 0]) < 0.02
+    assert np.all(pos[hit, 2] > z_end + 0.9 * r)
+
+
+def test_body_motion_is_interpolated_between_frames():
+    centre = np.array([0.0, 1.2, 0.0])
+    R = 0.1
+    v, f = sphere(centre, R, 48, 24)
+    for mode in ("object", "image"):
+        c = make_collider(mode, f, np.zeros(len(v), np.int8) + (1 if mode == "object" else 0))
+        c.update(v)
+        for _ in range(4):  # frame 0: four substeps, so the next frame counts in quarters
+            p = np.array([[0.0, 1.2, 0.5]])
+            c.resolve(p, np.zeros_like(p), p.copy())
+        c.update(v + [0.0, 0.0, 0.1])  # the sphere moves 10 cm towards +z
+        # at the first substep (alpha = 1/4) the sphere's front is at z = 0.125
+        p = np.array([[0.0, 1.2, 0.12]])
+        held = c.resolve(p, np.zeros_like(p), p.copy())
+        assert held[0] and p[0, 2] == pytest.approx(0.125 + T, abs=1.5e-3)
+        # at alpha = 2/4 its front is at 0.15: a point at 0.135 is inside again
+        p = np.array([[0.0, 1.2, 0.135]])
+        held = c.resolve(p, np.zeros_like(p), p.copy())
+        assert held[0] and p[0, 2] == pytest.approx(0.15 + T, abs=1.5e-3)
+        # an explicit alpha overrides the count
+        p = np.array([[0.0, 1.2, 0.135]])
+        held = c.resolve(p, np.zeros_like(p), p.copy(), alpha=0.0)
+        assert not held[0] and p[0, 2] == 0.135
+
+
+def _figure10_scene():
+    """The paper's figure-10 case: a front panel over the torso, the right forearm in front."""
+    m = Mannequin(1.0)
+    v = m.vertices(figure10_pose())
+    fp = face_parts(m.faces, m.parts)
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    cam = ortho_view(lo, hi, "front", (160, 320), square_pixels=False)
+    cam.matrix[2, 3] = 0.0  # depth = world z
+    sv = cam.to_screen(v)
+    torso = rasterize(sv, m.faces[fp == 0], size=(160, 320))
+    arm_back = rasterize(sv, m.faces[fp == 2], size=(160, 320), keep="far")
+    limbs = rasterize(sv, m.faces[fp > 0], size=(160, 320))
+    near_limb = binary_dilation(limbs.covered, iterations=3)
+    # the panel: 6 mm in front of the torso's front, on the chest and belly
+    ii, jj = np.nonzero(torso.covered)
+    x = (jj + 0.5 - cam.matrix[0, 3]) / cam.matrix[0, 0]
+    y = (ii + 0.5 - cam.matrix[1, 3]) / cam.matrix[1, 1]
+    keep = (y > 1.05) & (y < 1.40) & (np.abs(x) < 0.12)
+    ii, jj, x, y = ii[keep], jj[keep], x[keep], y[keep]
+    z = torso.depth[ii, jj] + 0.006
+    gap = np.where(arm_back.covered[ii, jj], arm_back.depth[ii, jj] - z, np.inf)
+    pts = np.c_[x, y, z]
+    under_arm = (gap > 0.012) & np.isfinite(gap)   # forearm well in front of the panel
+    clear = ~near_limb[ii, jj]                     # no limb in front, nor next to it
+    return m, v, pts, under_arm, clear
+
+
+def test_figure10_image_mode_shoves_cloth_in_front_of_the_arm_hybrid_does_not():
+    m, v, pts, under_arm, clear = _figure10_scene()
+    assert under_arm.sum() > 30 and clear.sum() > 100
+    moved = {}
+    for mode in ("image", "hybrid"):
+        c = make_collider(mode, m.faces, m.parts)
+        c.update(v)
+        p = pts.copy()
+        c.resolve(p, np.zeros_like(p), pts.copy())
+        moved[mode] = np.linalg.norm(p - pts, axis=1)
+        if mode == "image":
+            # the paper's failure: the panel under the arm is shoved out to the arm's front
+            # surface (centimetres: forwards, or up and down off the arm's rounded edges)
+            assert np.median(moved[mode][under_arm]) > 0.03
+            assert np.mean(moved[mode][under_arm] > 0.02) > 0.9
+            assert np.median(p[under_arm, 2] - pts[under_arm, 2]) > 0.03
+    # hybrid: the panel, 6 mm clear of the torso and well clear of the arm, stays where it is
+    assert moved["hybrid"][under_arm | clear].max() < 1e-3
+    # (only where the forearm itself touches the panel is anything moved, and by mm)
+    assert np.mean(moved["hybrid"] > 1e-3) < 0.02 and moved["hybrid"].max() < 0.005
+    # where no arm is in front, image mode leaves it alone too
+    assert moved["image"][clear].max() < 1e-3
+
+
+def test_object_and_hybrid_agree_on_the_torso():
+    m = Mannequin(1.0)
+    v = m.vertices(walk_pose(0.3))
+    fp = face_parts(m.faces, m.parts)
+    rng = np.random.default_rng(5)
+    # points 0–3 mm inside the torso's front and back (above the pelvis capsule, which the
+    # mannequin's torso capsule overlaps: a union of closed shapes, unlike a real body)
+    tris = np.nonzero(fp == 0)[0]
+    ctr = v[m.faces[tris]].mean(axis=1)
+    nrm = np.cross(v[m.faces[tris, 1]] - v[m.faces[tris, 0]],
+                   v[m.faces[tris, 2]] - v[m.faces[tris, 0]])
+    nrm /= np.linalg.norm(nrm, axis=1, keepdims=True)
+    ok = (np.abs(nrm[:, 2]) > 0.6) & (ctr[:, 1] > 1.06) & (ctr[:, 1] < 1.3) & \
+        (np.abs(ctr[:, 0]) < 0.09)
+    pick = rng.choice(np.nonzero(ok)[0], 400)
+    pts = ctr[pick] - nrm[pick] * rng.uniform(0.0, 0.003, (400, 1))
+    out = {}
+    for mode in ("object", "hybrid"):
+        c = make_collider(mode, m.faces, m.parts)
+        c.update(v)
+        p = pts.copy()
+        held = c.resolve(p, np.zeros_like(p), pts.copy())
+        assert held.all()
+        out[mode] = p
+    diff = np.linalg.norm(out["object"] - out["hybrid"], axis=1)
+    assert diff.max() < 1e-3
+
+
+def test_skips_save_work_without_changing_results():
+    m = Mannequin(1.0)
+    v0 = m.vertices(figure10_pose())
+    fp = face_parts(m.faces, m.parts)
+    tris = np.nonzero((fp == 0) & (v0[m.faces].mean(axis=1)[:, 1] > 1.1))[0]
+    rng = np.random.default_rng(2)
+    pick = rng.choice(tris, 600)
+    base = v0[m.faces[pick]].mean(axis=1)
+    results = {}
+    for on in (True, False):
+        sk = Skips(on, on, on, on, on)
+        c = make_collider("hybrid", m.faces, m.parts, skips=sk)
+        p = base.copy()
+        rng = np.random.default_rng(7)  # the same jitter for both runs
+        for _frame in range(3):
+            c.update(v0)  # the body stands still
+            for _ in range(4):
+                prev = p.copy()
+                p += rng.normal(0, 2e-4, p.shape)
+                c.resolve(p, np.zeros_like(p), prev)
+        results[on] = (p, c)
+    p_on, c_on = results[True]
+    p_off, c_off = results[False]
+    # a chest-only cloth never needs the legs; the maps are drawn once, then reused
+    assert c_on.timings.parts_skipped > 0 and c_off.timings.parts_skipped == 0
+    assert c_on.timings.maps_rendered == 1 and c_on.timings.maps_skipped == 2
+    assert c_off.timings.maps_rendered == 3
+    assert c_on.stats[3] > 0 and c_off.stats[3] == 0  # closest triangles reused
+    # the same answer (the reused triangles are the closest ones or equivalent neighbours)
+    assert np.linalg.norm(p_on - p_off, axis=1).max() < 2e-4
+
+
+def test_depth_maps_front_and_back():
+    centre = np.array([0.0, 1.0, 0.0])
+    v, f = sphere(centre, 0.2, 64, 32)
+    c = make_collider("hybrid", f, np.zeros(len(v), np.int8), map_size=(64, 64))
+    c.update(v)
+    front, back, covered, mat = c.depth_maps()
+    assert front.shape == (64, 64) and covered[32, 32]
+    assert front[32, 32] == pytest.approx(0.2, abs=3e-3)
+    assert back[32, 32] == pytest.approx(-0.2, abs=3e-3)
+    assert make_collider("object", f, np.zeros(len(v), np.int8)).depth_maps() is None
+
+
+def test_bad_input_is_a_catwalk_error():
+    v, f = sphere((0, 1, 0), 0.1)
+    parts = np.zeros(len(v), np.int8)
+    with pytest.raises(CatwalkError):
+        make_collider("gpu", f, parts)
+    with pytest.raises(CatwalkError):
+        make_collider("hybrid", f, parts[:-5])
+    with pytest.raises(CatwalkError):
+        make_collider("hybrid", f, parts + 7)
+    with pytest.raises(CatwalkError):
+        make_collider("hybrid", f, parts, thickness=-1)
+    c = make_collider("hybrid", f, parts)
+    p = np.zeros((3, 3))
+    with pytest.raises(CatwalkError):
+        c.resolve(p, p.copy(), p.copy())  # update() first
+    with pytest.raises(CatwalkError):
+        c.update(v[:-1])
+    c.update(v)
+    with pytest.raises(CatwalkError):
+        c.resolve(p.astype(np.float32), p.copy(), p.copy())
+    with pytest.raises(CatwalkError):
+        c.resolve(p, p.copy(), p.copy(), alpha=2.0)

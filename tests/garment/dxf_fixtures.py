@@ -1,0 +1,84 @@
+"""DXF pattern files written with ezdxf the way Gerber AccuMark and CLO export them."""
+
+from __future__ import annotations
+
+import ezdxf
+
+
+def _rect(w, h):
+    return [(0.0, 0.0), (w, 0.0), (w, h), (0.0, h)]
+
+
+def _block(doc, name, piece, size, qty, outline, *, style, grain=None, notches=(),
+           mirror=None, texts_upper=False):
+    blk = doc.blocks.new(name=name)
+    if style == "gerber":   # several open polylines on layer 1, chained end to end
+        pts = list(outline) + [outline[0]]
+        cut = max(2, len(pts) // 2)
+        blk.add_polyline2d(pts[:cut], dxfattribs={"layer": "1"})
+        # the second run drawn backwards, as exporters sometimes do
+        blk.add_polyline2d(list(reversed(pts[cut - 1:])), dxfattribs={"layer": "1"})
+    else:                   # CLO: one closed polyline (flag 70 = 1)
+        blk.add_polyline2d(outline, close=True, dxfattribs={"layer": "1"})
+    if grain is not None:
+        blk.add_line(grain[0], grain[1], dxfattribs={"layer": "7"})
+    for pt in notches:
+        if style == "gerber":
+            blk.add_line(pt, (pt[0] + 0.1, pt[1] + 0.1), dxfattribs={"layer": "4"})
+        else:
+            blk.add_point(pt, dxfattribs={"layer": "4", "angle": 90.0})
+    if mirror is not None:
+        blk.add_line(mirror[0], mirror[1], dxfattribs={"layer": "6"})
+    keys = ("PIECE NAME", "SIZE", "QUANTITY") if texts_upper else ("Piece Name", "Size",
+                                                                   "Quantity")
+    for k, v, y in zip(keys, (piece, size, qty), (1, 2, 3), strict=True):
+        blk.add_text(f"{k}: {v}", dxfattribs={"layer": "1", "height": 0.2, "insert": (1, y)})
+    return blk
+
+
+def write_pattern(path, *, style="gerber", units="ENGLISH", sizes=("S", "M", "L"),
+                  extra_pieces=(), drop_units=False):
+    """A two-piece skirt (front cut on fold, back with quantity 2) in ``sizes``.
+
+    Units ENGLISH: inches; METRIC: millimetres. Front: a half panel 10 × 24 in (+ 0.5 per
+    size step) with a mirror line along its left edge; back: 20 × 24 in rectangle, 2 notches."""
+    doc = ezdxf.new("R12")
+    k = 1.0 if units == "ENGLISH" else 25.4
+    x = 0.0
+    for i, size in enumerate(sizes):
+        w = (10.0 + 0.5 * i) * k
+        h = 24.0 * k
+        front = _rect(w, h)
+        _block(doc, f"FRONT_{size}", "FRONT", size, 1, front, style=style,
+               grain=((w / 2, 2 * k), (w / 2, 20 * k)), notches=[(w, 10 * k)],
+               mirror=((0.0, 0.0), (0.0, h)))
+        back = [(0.0, 0.0), (2 * w, 0.0), (2 * w, h), (w, h + 0.5 * k), (0.0, h)]
+        _block(doc, f"BACK_{size}", "BACK", size, 2, back, style=style,
+               grain=((w, 2 * k), (w, 20 * k)), notches=[(0.0, 10 * k), (2 * w, 10 * k)],
+               texts_upper=(style == "clo"))
+        for name in (f"FRONT_{size}", f"BACK_{size}"):
+            doc.modelspace().add_blockref(name, (x, 0.0))
+            x += 30.0 * k
+    for blkname, piece, size, outline in extra_pieces:
+        _block(doc, blkname, piece, size, 1, outline, style=style)
+        doc.modelspace().add_blockref(blkname, (x, 0.0))
+        x += 30.0 * k
+    msp = doc.modelspace()
+    msp.add_text("Style Name: SKIRT01", dxfattribs={"layer": "1", "insert": (0, -5)})
+    if not drop_units:
+        msp.add_text(f"Units: {units}", dxfattribs={"layer": "1", "insert": (0, -6)})
+    doc.saveas(path)
+    return path
+
+
+def write_plain(path, insunits=6):
+    """Plain DXF: two closed LWPOLYLINEs in model space, metres ($INSUNITS = 6)."""
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = insunits
+    msp = doc.modelspace()
+    msp.add_lwpolyline(_rect(0.5, 0.7), close=True, dxfattribs={"layer": "CUT"})
+    # a panel with an arc (bulge) edge: a 0.4 × 0.3 rectangle whose top bulges outwards
+    msp.add_lwpolyline([(1, 0, 0), (1.4, 0, 0), (1.4, 0.3, 0.25), (1, 0.3, 0)], format="xyb",
+                       close=True, dxfattribs={"layer": "CUT"})
+    doc.saveas(path)
+    return path
