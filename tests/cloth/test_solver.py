@@ -175,3 +175,32 @@ def test_seam_forces_pull_matched_points_together():
     sol.run(m, st, 1.5)
     gap = np.linalg.norm(st.positions[m.seam_a] - st.positions[m.seam_b], axis=1).mean()
     assert gap < 0.2 * gap0
+
+
+def _overstretched_run(method, steps=400):
+    m, st = hanging_cloth(0.3, 0.3, h=0.03, fabric="cotton-jersey", pins="corner")
+    centre = st.positions.mean(axis=0)
+    st.positions[:] = centre + 1.5 * (st.positions - centre)   # every spring 50 % too long
+    sol = Solver(m, method, gravity=(0.0, 0.0, 0.0))
+    start = max_strain(m, st.positions)
+    fastest = 0.0
+    for _ in range(steps):
+        before = st.positions.copy()
+        sol.step(m, st, None, sol.dt_max)
+        fastest = max(fastest, np.linalg.norm(st.positions - before, axis=1).max() / sol.dt_max)
+    return start, max_strain(m, st.positions), fastest
+
+
+@pytest.mark.parametrize("method", ["ordered", "vassilev"])
+def test_a_badly_overstretched_start_is_pulled_back_without_exploding(method):
+    """Panels placed on a body, or points pushed out by the collider, can start far beyond the
+    strain limit; the velocity passes must bring them back over a few steps (each spring's
+    correction capped at MAX_CORRECTION_SPEED), not throw the points at excess / dt."""
+    from catwalk.cloth.kernels import MAX_CORRECTION_SPEED
+
+    start, end, fastest = _overstretched_run(method)
+    _, _, fastest_free = _overstretched_run("none")   # the springs alone, no strain limit
+    assert start > 0.45
+    assert end < start - 0.3
+    # the limit adds at most a few capped corrections per point to what the springs do
+    assert fastest < fastest_free + 12 * MAX_CORRECTION_SPEED   # ≤ 8 limited springs a point

@@ -19,6 +19,13 @@ STATUS_OK, STATUS_NONFINITE, STATUS_EXPLODED = 0, 1, 2
 SOFT_BAND = 0.01
 
 
+
+# The velocity strain limits correct at most this much closing speed per spring and step (m/s):
+# a spring that starts far beyond its limit (panels placed on the body, a point pushed out by
+# the collider, a seam pulling) is brought back over a few steps instead of in one, which would
+# throw its points at (excess / dt) — tens of m/s. At rest the excess is far below this cap.
+MAX_CORRECTION_SPEED = 2.0
+
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _compressed(e, rest, compress):
     """Spring force / k at a compression e < 0: the stiffness falls linearly from k to
@@ -133,7 +140,7 @@ def limit_unordered_velocity(x, v, w_lim, sa, sb, rest, n_lim, tau, dt):
         lim = (1.0 + tau) * rest[s]
         if ll <= lim:
             continue
-        g = (ll - lim) * inv_dt / (ll * wsum)
+        g = min(ll - lim, MAX_CORRECTION_SPEED * dt) * inv_dt / (ll * wsum)
         v[a, 0] += wa * g * dx
         v[a, 1] += wa * g * dy
         v[a, 2] += wa * g * dz
@@ -198,7 +205,7 @@ def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord
                 lim = (1.0 + tau) * rest[ord_spr[j]]
                 if ll <= lim:
                     continue
-                g = (ll - lim) / ll
+                g = min(ll - lim, MAX_CORRECTION_SPEED * dt) / ll
                 sx += g * dx
                 sy += g * dy
                 sz += g * dz
@@ -237,7 +244,7 @@ def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord
                 lim = (1.0 + tau) * rest[ord_spr[j]]
                 if ll <= lim:
                     continue
-                g = (ll - lim) / (ll * (wp + wq))
+                g = min(ll - lim, MAX_CORRECTION_SPEED * dt) / (ll * (wp + wq))
                 gp = wp * g
                 gq = wq * g
                 xp[p, 0] -= gp * dx
