@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import json
 import os
-import platform
 import time
 
+from catwalk.bench import cpu_model
 from catwalk.cloth.fabrics import get_fabric
 from catwalk.cloth.scenes import paper_size_cloth
 from catwalk.cloth.solver import METHODS, Solver, max_strain
@@ -25,15 +25,7 @@ BLOCK = 100
 
 
 def machine() -> str:
-    cpu = platform.processor() or "unknown cpu"
-    try:
-        with open("/proc/cpuinfo") as fh:
-            for line in fh:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    cpu = cpu_model()
     load = ""
     try:
         load = ", load average " + " ".join(open("/proc/loadavg").read().split()[:3])

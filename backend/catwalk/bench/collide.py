@@ -18,6 +18,7 @@ import time
 
 import numpy as np
 
+from catwalk.bench import cpu_model
 from catwalk.collide import MODES, Skips, make_collider
 from catwalk.collide.scenes import dress, makehuman_walk, mannequin_walk
 from catwalk.errors import CatwalkError
@@ -28,15 +29,7 @@ WARMUP = 2
 
 
 def machine() -> dict:
-    cpu = platform.processor() or ""
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
+    cpu = cpu_model()
     return {"nproc": os.cpu_count(), "cpu": cpu, "python": platform.python_version(),
             "load_average": [round(x, 2) for x in os.getloadavg()]}
 
