@@ -26,6 +26,7 @@ SOFT_BAND = 0.01
 # throw its points at (excess / dt) — tens of m/s. At rest the excess is far below this cap.
 MAX_CORRECTION_SPEED = 2.0
 
+
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _compressed(e, rest, compress):
     """Spring force / k at a compression e < 0: the stiffness falls linearly from k to
