@@ -58,7 +58,45 @@ def _render(args) -> int:
     return 0
 
 
+def _bench(args) -> int:
+    """Preview render cost on the MakeHuman body (26,756 triangles), best of ``--repeats``."""
+    import json
+    import time
+
+    from catwalk.bench import cpu_model
+    from catwalk.body.rig import rigged_base_body
+    from catwalk.render.preview import render_meshes
+
+    if args.repeats < 1:
+        raise InputError("--repeats must be at least 1")
+    size = _size(args.size)
+    body = rigged_base_body(0.0)
+    mesh = [(body.vertices, body.faces, (0.8, 0.66, 0.58))]
+    render_meshes(mesh, view="front", size=(64, 96))  # compile / load the kernels
+    times = []
+    for _ in range(args.repeats):
+        t = time.perf_counter()
+        render_meshes(mesh, view="front", size=size)
+        times.append(time.perf_counter() - t)
+    out = {"triangles": int(len(body.faces)), "size": list(size), "supersample": 2,
+           "ms_per_frame": 1000 * min(times), "ms_median": 1000 * float(np.median(times)),
+           "machine": cpu_model()}
+    if args.json:
+        print(json.dumps(out))
+    else:
+        print(f"render: {out['triangles']} triangles at {size[0]}x{size[1]} (2x supersampled): "
+              f"best {out['ms_per_frame']:.1f} ms, median {out['ms_median']:.1f} ms "
+              f"over {args.repeats} frames ({out['machine']})")
+    return 0
+
+
 def register(top, groups) -> None:
+    b = groups["bench"].add_parser("render", help="CPU preview render cost on a MakeHuman body")
+    b.add_argument("--size", default="512x768", help="WIDTHxHEIGHT in pixels")
+    b.add_argument("--repeats", type=int, default=10)
+    b.add_argument("--json", action="store_true", help="print JSON")
+    b.set_defaults(func=_bench)
+
     p = top.add_parser("render", help="render frames of a .glb to PNG (CPU)")
     p.add_argument("file", help="a .glb written by catwalk")
     p.add_argument("--time", type=float, nargs="+", default=[0.0],
