@@ -55,12 +55,24 @@ def test_body_with_motion_round_trips_and_validates(tmp_path):
     assert np.allclose(m.translations, motion.translations, atol=1e-6)
 
 
-def test_write_is_atomic_on_failure(tmp_path):
+def test_write_is_atomic_on_failure(tmp_path, monkeypatch):
+    """A write that dies half-way leaves neither a partial file nor the old file damaged."""
+    import pygltflib
+
     body = _box_body()
-    bad = Motion(30.0, np.zeros((3, 5, 4)), np.zeros((3, 5, 3)))
-    with pytest.raises(ValueError):
-        gltf.write_glb(tmp_path / "x.glb", body, bad)
-    assert list(tmp_path.iterdir()) == []
+    target = tmp_path / "x.glb"
+    target.write_bytes(b"previous result")
+
+    def dies_half_way(self, path):
+        with open(path, "wb") as f:
+            f.write(b"glTF half-written")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(pygltflib.GLTF2, "save_binary", dies_half_way)
+    with pytest.raises(OSError, match="disk full"):
+        gltf.write_glb(target, body, _motion())
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.glb"]
+    assert target.read_bytes() == b"previous result"
 
 
 def test_reading_garbage_is_a_clear_error(tmp_path):

@@ -38,7 +38,6 @@ RANGES = {
 }
 GIRTHS = ("bust", "underbust", "waist", "hips")
 TOL_GIRTH = 0.004   # fit target: well inside the 1 cm the product promises
-TOL_HEIGHT = 0.001
 
 
 @dataclass
@@ -95,11 +94,9 @@ class ShapeSpace:
         # macro targets reachable by the height and weight sliders at age 25, muscle 0.5
         for h in (0.0, 0.5, 1.0):
             for w in (0.0, 0.5, 1.0):
-                for c in (0.5,):
-                    s = mh.MacroSliders(gender=gender, height=h, weight=w, cupsize=c)
-                    for rel in mh.macro_weights(s):
-                        if rel not in names:
-                            names.append(rel)
+                for rel in mh.macro_weights(mh.MacroSliders(gender=gender, height=h, weight=w)):
+                    if rel not in names:
+                        names.append(rel)
         for m in MODIFIERS:
             for side in ("decr", "incr"):
                 names.append(f"{m}-{side}")

@@ -35,7 +35,7 @@ class BaseMesh:
     @property
     def body_triangles(self) -> np.ndarray:
         """(26756, 3) int32 triangles of the ``body`` group (vertex ids < 13380)."""
-        return _body_triangles(self)
+        return body_triangles()
 
 
 @lru_cache(maxsize=1)
@@ -66,18 +66,15 @@ def load_base_mesh() -> BaseMesh:
 
 
 @lru_cache(maxsize=1)
-def _body_tris_cached(key: int) -> np.ndarray:
+def body_triangles() -> np.ndarray:
+    """The ``body`` group's quads split into triangles: (26756, 3) int32, ids < 13380."""
     base = load_base_mesh()
-    gi = base.group_names.index("body")
-    q = base.quads[base.quad_group == gi]
+    q = base.quads[base.quad_group == base.group_names.index("body")]
     tris = np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
-    tris = tris[(tris[:, 1] != tris[:, 2])]
-    assert tris.max() < BODY_VERTEX_COUNT
+    tris = tris[tris[:, 1] != tris[:, 2]]
+    if tris.max() >= BODY_VERTEX_COUNT:
+        raise RuntimeError("the base mesh's body group uses helper vertices: wrong asset version")
     return np.ascontiguousarray(tris, dtype=np.int32)
-
-
-def _body_triangles(base: BaseMesh) -> np.ndarray:
-    return _body_tris_cached(0)
 
 
 @lru_cache(maxsize=4096)

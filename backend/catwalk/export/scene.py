@@ -8,6 +8,7 @@ between the stored frames), so what is checked or rendered is what a viewer play
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -38,6 +39,10 @@ class Scene:
     body: Body
     motion: Motion | None
 
+    @cached_property
+    def _inverse_bind(self) -> np.ndarray:
+        return self.body.skeleton.inverse_bind   # rest pose: computed once, not per frame
+
     @property
     def duration(self) -> float:
         return 0.0 if self.motion is None else (self.motion.frames - 1) / self.motion.fps
@@ -49,7 +54,7 @@ class Scene:
 
         rot, tr = sample_motion(self.motion, t)
         world = joint_world_matrices(self.body.skeleton, rot, tr)
-        mats = world @ self.body.skeleton.inverse_bind
+        mats = world @ self._inverse_bind
         return skin(self.body.vertices, self.body.skin_joints, self.body.skin_weights, mats)
 
     def meshes_at(self, t: float) -> list[tuple[str, np.ndarray, np.ndarray, tuple]]:
