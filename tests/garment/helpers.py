@@ -45,3 +45,43 @@ def cli(argv, capsys=None):
         cap = capsys.readouterr()
         out, err = cap.out, cap.err
     return code, out, err + msg
+
+
+BAD_VALUES = [None, "x", -1, [], {}, True]
+
+
+def json_paths(node, path=()):
+    """Every path into a JSON document, leaves and containers (lists: first two items)."""
+    yield path
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from json_paths(v, (*path, k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node[:2]):
+            yield from json_paths(v, (*path, i))
+
+
+def assert_only_input_errors(base: dict, use, bad_values=BAD_VALUES) -> int:
+    """Replace every field of ``base`` in turn by each bad value and call ``use(doc)``: it may
+    succeed or raise InputError (exit 2), never anything else (a traceback). Returns the count
+    of documents tried."""
+    import copy
+
+    from catwalk.errors import InputError
+
+    tried = 0
+    for path in [p for p in json_paths(base) if p]:
+        for bad in bad_values:
+            doc = copy.deepcopy(base)
+            node = doc
+            for k in path[:-1]:
+                node = node[k]
+            node[path[-1]] = bad
+            tried += 1
+            try:
+                use(doc)
+            except InputError:
+                pass
+            except Exception as exc:
+                raise AssertionError(f"{path} = {bad!r}: {type(exc).__name__}: {exc}") from exc
+    return tried
