@@ -8,6 +8,7 @@ STAMP := $(VENV)/.installed
 NODE_STAMP := tools/node/node_modules/.installed
 FS_STAMP := garments/freesewing/node_modules/.installed
 PYTEST_ARGS ?=
+DEMO_GARMENT ?= garments/pencil-skirt.json
 
 .PHONY: install demo test lint bodies clean
 
@@ -31,9 +32,11 @@ $(FS_STAMP): garments/freesewing/package.json garments/freesewing/package-lock.j
 demo: install
 	mkdir -p demo
 	$(CATWALK) body make --sex female --height 1.68 --bust 0.90 --waist 0.72 --hips 0.98 -o demo/body.glb
-	$(CATWALK) walk --body demo/body.glb --seconds 4 --style catwalk -o demo/walk.glb
-	$(CATWALK) render demo/walk.glb --time 0.2 0.5 0.8 1.1 --view front side --size 360x540 -o demo/walk.png
-	@echo "demo: wrote demo/body.glb, demo/walk.glb and the preview demo/walk.png"
+	$(CATWALK) tryon --body demo/body.glb --garment $(DEMO_GARMENT) --size M --seconds 4 \
+		-o demo/tryon.glb --metrics demo/metrics.json
+	$(CATWALK) render demo/tryon.glb --time 0.5 1.4 2.3 3.2 --view front side --size 360x540 \
+		-o demo/tryon.png
+	@echo "demo: wrote demo/tryon.glb (open it in any glTF viewer), demo/metrics.json and the preview demo/tryon.png"
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check backend tests

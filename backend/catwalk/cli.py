@@ -25,6 +25,7 @@ COMMAND_MODULES = [
     "catwalk.cloth.commands",
     "catwalk.collide.commands",
     "catwalk.garment.commands",
+    "catwalk.simulate.commands",
 ]
 
 GROUPS = {

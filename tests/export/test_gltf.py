@@ -1,30 +1,18 @@
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from tryon_samples import box_body
 
-from catwalk.body.types import Body, Motion, Skeleton
+from catwalk.body.types import Motion
 from catwalk.errors import InputError
 from catwalk.export import gltf
 
 
 def _box_body():
-    import trimesh
-
-    m = trimesh.creation.box(extents=(0.3, 1.6, 0.2))
-    m = m.subdivide().subdivide()
-    v = np.asarray(m.vertices) + [0, 0.8, 0]
-    rl = np.stack([np.eye(4)] * 2)
-    rl[0][:3, 3] = [0, 0.9, 0]
-    rl[1][:3, 3] = [0, 0.5, 0]
-    sk = Skeleton(names=["hips", "chest"], parents=np.array([-1, 0]), rest_local=rl)
-    n = len(v)
-    sj = np.zeros((n, 4), np.uint16)
-    sj[:, 0] = v[:, 1] > 1.2
-    sw = np.zeros((n, 4), np.float32)
-    sw[:, 0] = 1
-    parts = (v[:, 0] > 0.1).astype(np.int8)
-    return Body(v, np.asarray(m.faces, np.int32), parts, sk, sj, sw,
-                landmarks={"waist": [0.0, 1.0, 0.0]}, meta={"sex": "test"})
+    body = box_body(subdivisions=2, split_parts=True)
+    body.landmarks = {"waist": [0.0, 1.0, 0.0]}
+    body.meta = {"sex": "test"}
+    return body
 
 
 def _motion(frames=12):

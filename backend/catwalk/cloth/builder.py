@@ -404,8 +404,14 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     kind = np.concatenate([p[2] for p in pairs]).astype(np.int8)
     keep = sa != sb
     sa, sb, kind = sa[keep], sb[keep], kind[keep]
-    # dedupe by unordered pair, keeping the first occurrence (grid springs come first)
+    # no spring spans a seam's gap (e.g. across a dart, where the next-but-one outline bend
+    # spring and thin tip triangles join the two legs): the seam closes that gap
     key = np.minimum(sa, sb) * npts + np.maximum(sa, sb)
+    across = _across_seams(seam_pts, len(seams), npts)
+    if len(across):
+        keep = ~np.isin(key, across)
+        sa, sb, kind, key = sa[keep], sb[keep], kind[keep], key[keep]
+    # dedupe by unordered pair, keeping the first occurrence (grid springs come first)
     _, first = np.unique(key, return_index=True)
     first = np.sort(first)
     sa, sb, kind = sa[first], sb[first], kind[first]
@@ -459,6 +465,21 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
         adj_ptr=adj_ptr, adj_spring=adj_spring, adj_other=adj_other, triangles=triangles,
         seam_a=_cat(sea), seam_b=_cat(seb), seam_id=_cat(sid),
         panel_names=[p.name for p in panels])
+
+
+def _across_seams(seam_pts: dict, n_seams: int, npts: int) -> np.ndarray:
+    """Keys (min·npts + max) of the point pairs that lie on the two sides of one seam (points on
+    both sides, like a dart tip, excluded)."""
+    keys = []
+    for si in range(n_seams):
+        a = np.unique(seam_pts[(si, 0)])
+        b = np.unique(seam_pts[(si, 1)])
+        a, b = np.setdiff1d(a, b), np.setdiff1d(b, a)
+        if len(a) and len(b):
+            aa, bb = np.meshgrid(a, b)
+            aa, bb = aa.ravel().astype(np.int64), bb.ravel().astype(np.int64)
+            keys.append(np.minimum(aa, bb) * npts + np.maximum(aa, bb))
+    return np.unique(np.concatenate(keys)) if keys else np.zeros(0, np.int64)
 
 
 def _cat(xs) -> np.ndarray:

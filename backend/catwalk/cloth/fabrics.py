@@ -115,7 +115,10 @@ def spring_constants(fabric: Fabric, kind: np.ndarray, direction: np.ndarray,
     sh = kind == 1
     k[sh] = fabric.shear
     bd = kind == 2
-    half = 0.5 * rest[bd]  # the spacing a bend spring spans twice
+    # the spacing a bend spring spans twice; outline bend springs shorter than the grid's
+    # (points crowded at a dart tip or a tight curve) are not made stiffer than a grid one,
+    # which would shrink the stable time step by the fourth power of the crowding
+    half = np.maximum(0.5 * rest[bd], h)
     k[bd] = 9.0 * bend_rigidity(fabric, cos2[bd]) / (BEND_REFERENCE_CURVATURE ** 2 * half ** 4)
     return k
 

@@ -26,6 +26,10 @@ SOFT_BAND = 0.01
 # throw its points at (excess / dt) — tens of m/s. At rest the excess is far below this cap.
 MAX_CORRECTION_SPEED = 2.0
 
+# A seam spring pulls as if its gap were at most this long (m): partners placed far apart
+# (a trouser inseam, a sleeve cap) approach at a bounded speed instead of being flung together.
+SEAM_REACH = 0.01
+
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _compressed(e, rest, compress):
@@ -89,10 +93,20 @@ def accumulate_forces(x, v, mass, sa, sb, rest, k, c, n_lim, compress, gravity, 
     for s in range(seam_a.shape[0]):
         a = seam_a[s]
         b = seam_b[s]
-        for q in range(3):
-            fq = seam_k * (x[b, q] - x[a, q]) + seam_c * (v[b, q] - v[a, q])
-            f[a, q] += fq
-            f[b, q] -= fq
+        gx = x[b, 0] - x[a, 0]
+        gy = x[b, 1] - x[a, 1]
+        gz = x[b, 2] - x[a, 2]
+        gl = np.sqrt(gx * gx + gy * gy + gz * gz)
+        ks = seam_k if gl <= SEAM_REACH else seam_k * SEAM_REACH / gl
+        fx = ks * gx + seam_c * (v[b, 0] - v[a, 0])
+        fy = ks * gy + seam_c * (v[b, 1] - v[a, 1])
+        fz = ks * gz + seam_c * (v[b, 2] - v[a, 2])
+        f[a, 0] += fx
+        f[a, 1] += fy
+        f[a, 2] += fz
+        f[b, 0] -= fx
+        f[b, 1] -= fy
+        f[b, 2] -= fz
 
 
 @numba.njit(cache=True, error_model="numpy")

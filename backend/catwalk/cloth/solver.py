@@ -100,7 +100,9 @@ class Solver:
     not agree on with them. ``provot_iterations``: passes of Provot's correction per step.
     ``sewing``: apply seam forces (``seam_stiffness`` N/m per point pair, ``seam_damping``
     N·s/m) and count seam points as high-tension centres. ``extra_air`` (1/s) adds air drag,
-    e.g. to settle a drape faster.
+    e.g. to settle a drape faster. ``held_fixed``: points held by the body are immovable in the
+    strain limit (the paper); False lets them be corrected like free points, so that cloth
+    pulled round the body while sewing can slide instead of being pinned where it touches.
     """
 
     def __init__(self, model: ClothModel, method: str = "ordered", *, gravity=GRAVITY,
@@ -108,7 +110,7 @@ class Solver:
                  share: bool = False, passes: int = 1, provot_iterations: int = 8,
                  sewing: bool = False, seam_stiffness: float = 50.0, seam_damping: float = 0.05,
                  extra_air: float = 0.0, tau: float | None = None, max_speed: float = 100.0,
-                 allow_unstable: bool = False):
+                 allow_unstable: bool = False, held_fixed: bool = True):
         if method not in METHODS:
             raise CatwalkError(f"unknown strain-limit method {method!r} "
                                f"(choose from {', '.join(METHODS)})")
@@ -126,6 +128,7 @@ class Solver:
         self.tau = float(model.tau if tau is None else tau)
         self.max_speed = float(max_speed)
         self.allow_unstable = bool(allow_unstable)
+        self.held_fixed = bool(held_fixed)
         self.order_rebuilds = 0
         self._last_h = None
         self.share = bool(share)
@@ -193,7 +196,8 @@ class Solver:
         if self._centres is not None and np.array_equal(centres, self._centres):
             return False
         self._w_int = np.where(state.pinned, 0.0, self._inv_mass)
-        self._w_lim = np.where(state.held, 0.0, self._w_int)
+        self._w_lim = (np.where(state.held, 0.0, self._w_int) if self.held_fixed
+                       else self._w_int)
         self._centres = centres.copy()
         if self.method != "ordered":
             return False
@@ -261,6 +265,18 @@ class Solver:
         state.time += h * nsteps
         state.steps += nsteps
         self._last_h = h
+
+    def after_collision(self, model: ClothModel, state: State, dt: float,
+                        iterations: int = 4) -> None:
+        """Provot's position correction after a collision response: stretch/shear springs the
+        collider left longer than (1+τ)·rest (it pushed one end out and not the other) are
+        shortened, points held by the body staying put, and the velocities take the change
+        over ``dt`` (the time since the previous collision response). Without it a stiff
+        fabric turns a few millimetres of push into tens of m/s of spring oscillation."""
+        w = np.where(state.held | state.pinned, 0.0, self._inv_mass)
+        K.limit_provot_positions(state.positions, state.velocities, w, model.spring_a,
+                                 model.spring_b, model.spring_rest, model.n_limited, self.tau,
+                                 float(dt), int(iterations))
 
     def last_speed(self, state: State) -> float:
         """The largest speed over the last (sub)step from positions, |x − x_prev| / dt: with the

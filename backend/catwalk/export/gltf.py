@@ -69,6 +69,60 @@ class GlbBuilder:
         self.gltf.accessors.append(acc)
         return len(self.gltf.accessors) - 1
 
+    def stacked_accessors(self, arrays: np.ndarray, *, target: int | None = None,
+                          minmax: bool = False) -> list[int]:
+        """One accessor per ``arrays[k]`` (shape (K, n, w)), all in one buffer view (fewer JSON
+        objects than one view each: morph targets). Vertex data gets an explicit byteStride, as
+        the spec wants when accessors share a view."""
+        a = np.ascontiguousarray(arrays)
+        if a.dtype not in _COMPONENT or a.ndim != 3:
+            raise TypeError(f"need a (K, n, w) array of a glTF component type, got {a.dtype} "
+                            f"{a.shape}")
+        k, count, width = a.shape
+        while len(self._blob) % 4:
+            self._blob.append(0)
+        offset = len(self._blob)
+        self._blob.extend(a.tobytes())
+        stride = a.dtype.itemsize * width
+        view = g.BufferView(buffer=0, byteOffset=offset, byteLength=a.nbytes, target=target,
+                            byteStride=stride if target == g.ARRAY_BUFFER else None)
+        self.gltf.bufferViews.append(view)
+        vi = len(self.gltf.bufferViews) - 1
+        out = []
+        lo = a.min(axis=1) if minmax and count else None
+        hi = a.max(axis=1) if minmax and count else None
+        for i in range(k):
+            acc = g.Accessor(bufferView=vi, byteOffset=i * count * stride,
+                             componentType=_COMPONENT[a.dtype], count=count,
+                             type=_TYPE_BY_WIDTH[width])
+            if lo is not None:
+                acc.min = [float(x) for x in lo[i]]
+                acc.max = [float(x) for x in hi[i]]
+            self.gltf.accessors.append(acc)
+            out.append(len(self.gltf.accessors) - 1)
+        return out
+
+    def image(self, data: bytes, mime_type: str, name: str | None = None) -> int:
+        """Embed an encoded image (PNG or JPEG bytes) in the binary chunk."""
+        while len(self._blob) % 4:
+            self._blob.append(0)
+        offset = len(self._blob)
+        self._blob.extend(data)
+        self.gltf.bufferViews.append(g.BufferView(buffer=0, byteOffset=offset,
+                                                  byteLength=len(data)))
+        self.gltf.images.append(g.Image(name=name, mimeType=mime_type,
+                                        bufferView=len(self.gltf.bufferViews) - 1))
+        return len(self.gltf.images) - 1
+
+    def repeat_texture(self, image: int) -> int:
+        """A texture of ``image`` with REPEAT wrapping and trilinear filtering."""
+        if not self.gltf.samplers:
+            self.gltf.samplers.append(g.Sampler(magFilter=g.LINEAR,
+                                                minFilter=g.LINEAR_MIPMAP_LINEAR,
+                                                wrapS=g.REPEAT, wrapT=g.REPEAT))
+        self.gltf.textures.append(g.Texture(sampler=0, source=image))
+        return len(self.gltf.textures) - 1
+
     def node(self, node: g.Node, root: bool = False) -> int:
         self.gltf.nodes.append(node)
         idx = len(self.gltf.nodes) - 1
@@ -345,7 +399,8 @@ def validate(paths: list[str | Path]) -> list[dict]:
     script = tools / "validate.mjs"
     if not (tools / "node_modules" / "gltf-validator").is_dir():
         raise RuntimeError("gltf-validator is not installed: run `make install`")
-    res = subprocess.run(["node", str(script), *map(str, paths)], capture_output=True, text=True,
+    files = [str(Path(p).resolve()) for p in paths]   # the script runs in tools/node
+    res = subprocess.run(["node", str(script), *files], capture_output=True, text=True,
                          cwd=tools)
     if res.returncode != 0:
         raise RuntimeError(f"gltf-validator failed: {res.stderr[-2000:]}")

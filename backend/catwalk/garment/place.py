@@ -11,14 +11,22 @@ seen from outside the garment, +v up):
 - torso / legs, side ``front``: the panel faces +Z, +u → +X (the body's left); ``back``: faces
   −Z, +u → −X; ``left``: faces +X, +u → −Z; ``right``: faces −X, +u → +Z;
 - arms: +v runs from the wrist to the shoulder along the arm, the panel faces outwards
-  (±X) and +u points to the front on the right arm, to the back on the left arm (a sleeve
-  drafted with its front on +u is a right sleeve; its mirrored copy is the left one);
+  (±X; away from the armpit when the body has ``armpit_left``/``armpit_right``, so that a
+  sleeve's underarm seam meets the bodice's side seam) and +u points to the front on the right
+  arm, to the back on the left arm (a sleeve drafted with its front on +u is a right sleeve;
+  its mirrored copy is the left one);
 - the panel point at ``anchor_vertex`` (numbered as stored; mapped into mirrored copies and
   opened folds) / ``anchor_point`` (default: the top centre of its
   bounding box) goes to the ``anchor`` landmark (default by part: neck_base, waist,
   shoulder_left / shoulder_right), moved out to the part's surface + ``distance`` and by
-  ``offset``; ``rotation`` turns the panel about its outward normal;
-- ``wrap``: torso and legs panels bend round a vertical cylinder of the part's radius +
+  ``offset``; ``rotation`` turns the panel about its outward normal. A torso panel anchored
+  at the neck hangs from its top: the anchor point only centres it across, and the panel's
+  highest point (the high shoulder point of a bodice) goes to the height of ``neck_side_left``
+  (front and back necklines differ by 5–10 cm, so anchoring both centre necks at one height
+  would put their shoulder seams that far apart);
+- ``wrap``: torso and legs panels bend round a vertical cylinder (for the torso centred, front
+  to back, at the armpits' depth, so front and back panels meet under the arms) of the part's
+  radius +
   ``distance``; sleeves round their arm's axis with the radius that closes them
   (width / 2π).
 
@@ -44,6 +52,7 @@ from catwalk.garment.model import Garment, Placement, cut_pieces, piece_vertex
 DEFAULT_GIRTHS = {"bust": 0.98, "waist": 0.80, "hips": 1.06}
 ARM_RADIUS = 0.05
 LEG_RADIUS = 0.09
+NECK_ANCHORS = ("neck_base", "neck_front", "neck_back", "neck")
 DEFAULT_ANCHOR = {"torso": {"front": "neck_base", "back": "neck_base"},
                   "legs": "waist", "left_leg": "waist", "right_leg": "waist",
                   "left_arm": "shoulder_left", "right_arm": "shoulder_right"}
@@ -126,6 +135,13 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
         else:
             anchor_name = DEFAULT_ANCHOR[part]
         anchor = _landmark(landmarks, anchor_name, piece.name)
+        if part == "torso" and anchor_name in NECK_ANCHORS:
+            # a bodice hangs from its neck points: the panel's top (the high shoulder point)
+            # goes to the height where neck meets shoulder; the anchor keeps it centred
+            a_uv = np.array([a_uv[0], hi[1]])
+            side_pt = landmarks.get("neck_side_left", landmarks.get("neck_side_right"))
+            if side_pt is not None:
+                anchor = np.array([anchor[0], float(side_pt[1]), anchor[2]])
         if part in ("left_arm", "right_arm"):
             side = "left" if part == "left_arm" else "right"
             sign = 1.0 if side == "left" else -1.0
@@ -134,6 +150,12 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
                 else np.array([-0.3 * sign, 1.0, 0.0])   # arms hanging a little apart
             d = d / np.linalg.norm(d)
             n = np.array([sign, 0.0, 0.0]) - sign * d[0] * d
+            armpit = landmarks.get(f"armpit_{side}")
+            if armpit is not None:   # the sleeve's underarm faces the armpit, where the
+                away = anchor - np.asarray(armpit, float)   # bodice's side seam ends
+                away -= np.dot(away, d) * d
+                if np.linalg.norm(away) > 1e-6:
+                    n = away
             n /= np.linalg.norm(n)
             e_v = d
             e_u = np.cross(e_v, n)
@@ -142,8 +164,12 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
         else:
             e_u, e_v, n = _frame(part, pl.side)
             d = np.array([0.0, 1.0, 0.0])
+            cz = axis_xz[1]
             if part == "torso":
                 r0, cx = torso_r, axis_xz[0]
+                pits = [landmarks[k] for k in ("armpit_left", "armpit_right") if k in landmarks]
+                if pits:   # side seams (where front and back meet) run up to the armpits
+                    cz = float(np.mean([p[2] for p in pits]))
             elif part == "legs":
                 r0, cx = hips_r, axis_xz[0]
             else:
@@ -151,7 +177,7 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
                 knee = landmarks.get("knee_left" if part == "left_leg" else "knee_right")
                 cx = (float(knee[0]) if knee is not None else
                       axis_xz[0] + (0.5 if part == "left_leg" else -0.5) * hips_r)
-            centre = np.array([cx, 0.0, axis_xz[1]])
+            centre = np.array([cx, 0.0, cz])
             radius = r0 + pl.distance
         foot = centre + np.dot(anchor - centre, d) * d        # the anchor's height on the axis
         surface = foot + radius * n + offset                  # where the anchor point goes

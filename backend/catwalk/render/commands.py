@@ -49,7 +49,7 @@ def _render(args) -> int:
             raise InputError(f"--time must be ≥ 0, not {t}")
     scene = load_scene(args.file)
     for t in args.time:
-        if scene.motion is not None and t > scene.duration + 1e-9:
+        if scene.animated and t > scene.duration + 1e-9:
             raise InputError(f"--time {t} is past the end of the animation "
                              f"({scene.duration:.3f} s)")
     image = render_sheet(scene, args.time, args.view, _size(args.size))

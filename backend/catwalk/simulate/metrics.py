@@ -1,0 +1,78 @@
+"""Independent accuracy checks of a try-on: how deep cloth points are inside the body.
+
+This does not use the collider: the body surface is searched from the k nearest body vertices
+(scipy's cKDTree) through their incident triangles, and a point's signed distance is measured
+along the body's interpolated vertex normal at its closest surface point (negative = inside).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from scipy.spatial import cKDTree
+
+from catwalk.collide.bvh import closest_on_triangle
+from catwalk.render.raster import vertex_normals
+
+
+def _incident(faces: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    f = faces.ravel()
+    order = np.argsort(f, kind="stable")
+    ptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(f, minlength=n), out=ptr[1:])
+    return ptr, (order // 3).astype(np.int64)
+
+
+@numba.njit(cache=True)
+def _signed(points, near, verts, normals, faces, ptr, inc, out):
+    for i in range(points.shape[0]):
+        px, py, pz = points[i, 0], points[i, 1], points[i, 2]
+        best = 1e30
+        sd = 1e30
+        for j in range(near.shape[1]):
+            v = near[i, j]
+            for t in range(ptr[v], ptr[v + 1]):
+                f = inc[t]
+                a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
+                u, w = closest_on_triangle(
+                    px, py, pz, verts[a, 0], verts[a, 1], verts[a, 2], verts[b, 0], verts[b, 1],
+                    verts[b, 2], verts[c, 0], verts[c, 1], verts[c, 2])
+                s = 1.0 - u - w
+                qx = s * verts[a, 0] + u * verts[b, 0] + w * verts[c, 0]
+                qy = s * verts[a, 1] + u * verts[b, 1] + w * verts[c, 1]
+                qz = s * verts[a, 2] + u * verts[b, 2] + w * verts[c, 2]
+                dx, dy, dz = px - qx, py - qy, pz - qz
+                d2 = dx * dx + dy * dy + dz * dz
+                if d2 < best:
+                    best = d2
+                    nx = s * normals[a, 0] + u * normals[b, 0] + w * normals[c, 0]
+                    ny = s * normals[a, 1] + u * normals[b, 1] + w * normals[c, 1]
+                    nz = s * normals[a, 2] + u * normals[b, 2] + w * normals[c, 2]
+                    dn = dx * nx + dy * ny + dz * nz
+                    d = np.sqrt(d2)
+                    sd = d if dn >= 0.0 else -d
+        out[i] = sd
+
+
+class BodySurface:
+    """Signed distances of points to one posed body surface."""
+
+    def __init__(self, faces: np.ndarray, n_vertices: int, k: int = 8):
+        self.faces = np.ascontiguousarray(faces, dtype=np.int64)
+        self.ptr, self.inc = _incident(self.faces, n_vertices)
+        self.k = int(k)
+
+    def signed_distance(self, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
+        v = np.ascontiguousarray(vertices, dtype=np.float64)
+        p = np.ascontiguousarray(points, dtype=np.float64)
+        nrm = vertex_normals(v, self.faces)
+        _, near = cKDTree(v).query(p, k=self.k)
+        out = np.empty(len(p))
+        _signed(p, np.ascontiguousarray(near, dtype=np.int64), v, nrm, self.faces, self.ptr,
+                self.inc, out)
+        return out
+
+
+def penetration(surface: BodySurface, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Depth (m, ≥ 0) of every point inside the body (0 outside)."""
+    return np.maximum(-surface.signed_distance(vertices, points), 0.0)

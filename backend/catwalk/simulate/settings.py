@@ -1,0 +1,90 @@
+"""Simulation settings and their presets (``fast``, ``balanced``, ``accurate``)."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, replace
+
+from catwalk.collide import MODES
+from catwalk.errors import InputError
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Everything that trades speed for accuracy in a try-on.
+
+    Cloth: ``h`` grid spacing (m), ``method`` strain limit (the paper's ``ordered``).
+    Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
+    cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
+    moves at most this far between two collision substeps of the walk (sets their number from
+    the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame.
+    Dressing: seams pull with angular frequency ``sew_omega`` (rad/s, spring k = ω²·m) for at
+    most ``sew_seconds`` of simulated time or until every gap is under ``weld_gap`` or the gaps
+    stopped shrinking for ``sew_stall_seconds`` (0: never give up early); pairs within
+    ``weld_reach`` are then welded, the others keep pulling while gravity settles the garment
+    and are welded as they close to ``weld_gap``; a seam still open by more than
+    ``max_open_gap`` at the end fails the dressing. Gravity settles the
+    garment for at most ``settle_seconds`` until the fastest point is slower than
+    ``settle_speed`` (m/s). ``blend_seconds``: the body's move from its rest pose into the
+    walk's first pose before recording starts.
+    """
+
+    name: str = "balanced"
+    h: float = 0.015
+    method: str = "ordered"
+    collider: str = "object"
+    map_size: int = 256
+    thickness: float = 0.004
+    friction: float | None = None
+    max_move: float = 0.005
+    min_collisions: int = 20
+    max_collisions: int = 60
+    sew_omega: float = 500.0
+    sew_seconds: float = 2.0
+    sew_stall_seconds: float = 0.3
+    sew_free_seconds: float = 0.0
+    weld_gap: float = 0.002
+    weld_reach: float = 0.01
+    max_open_gap: float = 0.03
+    settle_seconds: float = 1.5
+    settle_speed: float = 0.05
+    blend_seconds: float = 0.5
+
+    def check(self) -> Settings:
+        if self.collider not in MODES:
+            raise InputError(f"collider must be one of {', '.join(MODES)}, got {self.collider!r}")
+        for key in ("h", "thickness", "max_move", "sew_omega", "sew_seconds", "weld_gap",
+                    "weld_reach",
+                    "max_open_gap", "settle_speed"):
+            v = getattr(self, key)
+            if not (isinstance(v, (int, float)) and v > 0):
+                raise InputError(f"setting {key} must be a positive number, got {v!r}")
+        if not (0.004 <= self.h <= 0.1):
+            raise InputError(f"grid spacing h must be within 0.004–0.1 m, got {self.h}")
+        if self.min_collisions < 1 or self.max_collisions < self.min_collisions:
+            raise InputError("need 1 <= min_collisions <= max_collisions")
+        if self.settle_seconds < 0 or self.blend_seconds < 0:
+            raise InputError("settle_seconds and blend_seconds must be >= 0")
+        return self
+
+    def with_(self, **changes) -> Settings:
+        """A copy with some settings changed (None values are ignored)."""
+        return replace(self, **{k: v for k, v in changes.items() if v is not None}).check()
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+PRESETS: dict[str, Settings] = {
+    "fast": Settings(name="fast", h=0.025, map_size=128, max_move=0.01, min_collisions=10,
+                     sew_seconds=1.5, settle_seconds=0.8, blend_seconds=0.4),
+    "balanced": Settings(),
+    "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
+                         min_collisions=40, max_collisions=120, thickness=0.003,
+                         sew_seconds=3.0, settle_seconds=2.5, settle_speed=0.03),
+}
+
+
+def preset(name: str) -> Settings:
+    if name not in PRESETS:
+        raise InputError(f"unknown preset {name!r} (choose from {', '.join(PRESETS)})")
+    return PRESETS[name]

@@ -1,0 +1,130 @@
+"""The try-on end to end on a small scene: the pencil skirt at h = 3 cm, the fast preset,
+on the female base body, walking one gait cycle."""
+
+import json
+
+import numpy as np
+import pytest
+
+from catwalk.cli import main
+from catwalk.garment.model import load_garment
+from catwalk.simulate import Cancelled, dress, preset
+from catwalk.simulate.metrics import BodySurface, penetration
+
+SKIRT = "garments/pencil-skirt.json"
+FAST = ["--preset", "fast", "--h", "0.03", "--quiet"]
+
+
+@pytest.fixture(scope="module")
+def skirt(repo_root):
+    return load_garment(repo_root / SKIRT)
+
+
+@pytest.fixture(scope="module")
+def dressed(dressable_body, skirt):
+    return dress(dressable_body, skirt, "M", settings=preset("fast").with_(h=0.03))
+
+
+def test_dress_closes_every_seam_and_stays_outside(dressable_body, dressed):
+    st = dressed.stats
+    assert st["open_seam_pairs"] == 0
+    assert st["seam_gap_start_m"] > 0.05          # the pieces started well apart
+    assert dressed.model.n_points < dressed.cloth.model.n_points   # seams are now shared
+    pts = dressed.pattern_positions()
+    # partners of every seam are one particle now
+    m = dressed.cloth.model
+    assert np.allclose(pts[m.seam_a], pts[m.seam_b])
+    pen = penetration(BodySurface(dressable_body.faces, len(dressable_body.vertices)),
+                      dressable_body.vertices, pts)
+    assert pen.max() < 0.002
+    # the skirt hangs from the hips: its top above the crotch, its hem below it
+    crotch = dressable_body.landmarks["crotch"][1]
+    assert pts[:, 1].max() > crotch + 0.1 and pts[:, 1].min() < crotch - 0.15
+
+
+def test_dress_cancel(dressable_body, skirt):
+    calls = []
+
+    def cancel():
+        calls.append(1)
+        return len(calls) > 3
+
+    with pytest.raises(Cancelled):
+        dress(dressable_body, skirt, "M", settings=preset("fast").with_(h=0.03), cancel=cancel)
+    assert len(calls) == 4
+
+
+def test_tryon_cli_end_to_end(body_glb, tmp_path, repo_root, capsys):
+    from catwalk.export.garment import read_garments
+    from catwalk.export.gltf import read_body, read_motion, validate
+    from catwalk.motion.skinning import body_frames
+
+    out = tmp_path / "tryon.glb"
+    metrics = tmp_path / "metrics.json"
+    rc = main(["tryon", "--body", str(body_glb), "--garment", str(repo_root / SKIRT),
+               "--seconds", "1", *FAST, "-o", str(out), "--metrics", str(metrics),
+               "--iv", str(tmp_path / "dressed.iv")])
+    assert rc == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["file"] == str(out)
+    report = validate([out])[0]
+    assert report["numErrors"] == 0, report["messages"][:5]
+    m = json.loads(metrics.read_text())
+    for key in ("points", "springs", "body_triangles", "substeps_per_frame",
+                "dressing_seconds", "ms_per_frame", "max_penetration_mm",
+                "p99_penetration_mm", "max_strain", "max_seam_gap_mm", "nan", "exploded"):
+        assert key in m, key
+    assert set(m["ms_per_frame"]) >= {"body", "collider", "cloth"}
+    assert not m["nan"] and not m["exploded"]
+    # independent check: skin the body from the file, read the garment frames back
+    body = read_body(out)
+    motion = read_motion(out)
+    (garment,) = read_garments(out)
+    assert garment.frames == motion.frames == m["frames"]
+    verts, _ = body_frames(body, motion)
+    surface = BodySurface(body.faces, len(body.vertices))
+    worst = max(float(penetration(surface, verts[f], garment.positions[f]).max())
+                for f in range(garment.frames))
+    assert worst <= 0.002
+    # the garment moved with the body: the hip point travelled as far as the walk did
+    walked = float(verts[-1][:, 2].mean() - verts[0][:, 2].mean())
+    moved = float(garment.positions[-1][:, 2].mean() - garment.positions[0][:, 2].mean())
+    assert walked > 0.5 and abs(moved - walked) < 0.1
+    assert (tmp_path / "dressed.iv").read_text().startswith("#Inventor V2.1 ascii")
+
+
+def test_tryon_interrupt_leaves_no_file(body_glb, tmp_path, repo_root, monkeypatch):
+    import catwalk.simulate.commands as cmds
+
+    class Stop(cmds.ProgressBar):
+        def __call__(self, stage, i, total):
+            if stage == "walking":
+                raise KeyboardInterrupt
+
+    monkeypatch.setattr(cmds, "ProgressBar", Stop)
+    out = tmp_path / "tryon.glb"
+    rc = main(["tryon", "--body", str(body_glb), "--garment", str(repo_root / SKIRT),
+               "--seconds", "1", *FAST, "-o", str(out)])
+    assert rc == 130
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--body", "nope.glb"], "no such file"),
+    (["--size", "XXXL"], "no size"),
+    (["--seconds", "0"], "--seconds"),
+    (["--fabric", "cardboard"], "unknown fabric"),
+    (["-o", "out.obj"], ".glb"),
+])
+def test_tryon_bad_arguments_exit_2(body_glb, tmp_path, repo_root, capsys, args, message):
+    base = {"--body": str(body_glb), "--garment": str(repo_root / SKIRT),
+            "-o": str(tmp_path / "t.glb")}
+    argv = ["tryon"]
+    for i in range(0, len(args), 2):
+        base[args[i]] = args[i + 1]
+    for k, v in base.items():
+        argv += [k, v]
+    rc = main(argv + FAST)
+    assert rc == 2
+    assert message in capsys.readouterr().err
+    assert not (tmp_path / "t.glb").exists()
