@@ -41,11 +41,12 @@ Method:
   time between the previous and the current frame's maps); it goes to the nearer surface.
 * **Object space** (limbs in ``hybrid``, everything in ``object``): :mod:`catwalk.collide.bvh`,
   a hierarchy per part halving boxes across their largest dimension (spanning triangles in both
-  halves), refitted per frame over the swept triangles. Each nearby cloth point finds its closest
-  triangle at the substep's time and takes its signed distance (p − q)·n (q the closest point, n
-  the interpolated normal there); within thickness, or inside (and, when deeper than
-  ``max_depth``, only if the previous position at the previous substep's time was outside: a
-  crossing) ⇒ collision.
+  halves), refitted per frame: each node keeps its box at the previous and the current frame,
+  blended at a substep's time (their union bounds the whole frame). Each nearby cloth point
+  finds its closest triangle at the substep's time and takes its signed distance (p − q)·n
+  (q the closest point, n the interpolated normal there); within thickness, or inside (and,
+  when deeper than ``max_depth``, only if the previous position at the previous substep's time
+  was outside: a crossing) ⇒ collision.
 * Skips (:class:`~catwalk.collide.collider.Skips`, each switchable and measured by
   ``catwalk bench collide``): parts whose swept, dilated box cannot reach the cloth's box get no
   refit and no queries; depth maps are not re-rendered when the mapped parts did not move; points

@@ -13,6 +13,7 @@ pre-order, so children come after parents and a refit walks a part's node range 
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numba
@@ -475,6 +476,241 @@ def closest_triangle(px, py, pz, vb, faces, alpha, bounds, links, tris, root, be
                 best_d2 = d
                 best_t = t
     return best_d2, best_t, visited, tested, leaf_d2
+
+
+def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:
+    """Each leaf's distinct vertices, for :func:`refit_frame`: (``start`` (K+1,), ``verts``)
+    with node n's vertices ``verts[start[n]:start[n + 1]]`` (none for inner nodes). A leaf
+    of ~15 triangles has ~12 distinct vertices: a third of the reads of a walk over its
+    triangles' corners."""
+    f = np.asarray(faces, dtype=np.int64)
+    k = h.n_nodes
+    leaf = np.nonzero(h.links[:, 0] < 0)[0]
+    cnt = h.links[leaf, 3]
+    node = np.repeat(leaf, cnt)
+    refs = np.concatenate([h.tris[s:s + c] for s, c in zip(h.links[leaf, 2], cnt, strict=True)]) \
+        if len(leaf) else np.zeros(0, np.int64)
+    pairs = np.c_[np.repeat(node, 3), f[refs].ravel()]
+    pairs = np.unique(pairs, axis=0) if len(pairs) else pairs.reshape(0, 2)
+    start = np.zeros(k + 1, np.int64)
+    np.add.at(start, pairs[:, 0] + 1, 1)
+    return np.cumsum(start), np.ascontiguousarray(pairs[:, 1], dtype=np.int64)
+
+
+@numba.njit(cache=True, _nrt=False)
+def node_speeds(vp, ref, lv_start, lv, links, nb, first, last):
+    """``nb[:, 12]``: how far any vertex of the node moves over the frame relative to the
+    reference displacement ``ref``, as the norm of the per-axis maxima — a bound on how
+    fast the node's (blended) box, and any of its triangles, approaches a point that moves
+    with ``ref``."""
+    for nd in range(last - 1, first - 1, -1):
+        if links[nd, 0] < 0:
+            mx = 0.0
+            my = 0.0
+            mz = 0.0
+            for s in range(lv_start[nd], lv_start[nd + 1]):
+                v = lv[s]
+                mx = max(mx, abs(vp[v, 3] - vp[v, 0] - ref[0]))
+                my = max(my, abs(vp[v, 4] - vp[v, 1] - ref[1]))
+                mz = max(mz, abs(vp[v, 5] - vp[v, 2] - ref[2]))
+            nb[nd, 12] = math.sqrt(mx * mx + my * my + mz * mz) * (1.0 + 1e-6) + 1e-9
+        else:
+            nb[nd, 12] = max(nb[links[nd, 0], 12], nb[links[nd, 1], 12])
+
+
+@numba.njit(cache=True, _nrt=False)
+def refit_frame(vp, col, lv_start, lv, links, nb, first, last):
+    """Refit nodes [first, last) (one part) to the body at one frame: node boxes
+    ``nb[:, 6·col : 6·col + 6]`` (lo, hi) from the positions ``vp[:, 3·col : 3·col + 3]``
+    (leaves over their distinct vertices ``lv``, see :func:`leaf_vertices`; inner nodes the
+    union of their children). The collider keeps a node's boxes at the previous (col 0) and
+    the current frame (col 1): the box at any time between them is their blend."""
+    o = 6 * col
+    c3 = 3 * col
+    for nd in range(last - 1, first - 1, -1):
+        if links[nd, 0] < 0:
+            lx = np.inf
+            ly = np.inf
+            lz = np.inf
+            hx = -np.inf
+            hy = -np.inf
+            hz = -np.inf
+            for s in range(lv_start[nd], lv_start[nd + 1]):
+                v = lv[s]
+                x = vp[v, c3]
+                y = vp[v, c3 + 1]
+                z = vp[v, c3 + 2]
+                lx = min(lx, x)
+                hx = max(hx, x)
+                ly = min(ly, y)
+                hy = max(hy, y)
+                lz = min(lz, z)
+                hz = max(hz, z)
+            nb[nd, o] = lx
+            nb[nd, o + 1] = ly
+            nb[nd, o + 2] = lz
+            nb[nd, o + 3] = hx
+            nb[nd, o + 4] = hy
+            nb[nd, o + 5] = hz
+        else:
+            l = links[nd, 0]
+            r = links[nd, 1]
+            for q in range(3):
+                nb[nd, o + q] = min(nb[l, o + q], nb[r, o + q])
+                nb[nd, o + 3 + q] = max(nb[l, o + 3 + q], nb[r, o + 3 + q])
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _lerp_box_d2(px, py, pz, nb, nd, a, b):
+    """Squared distance from p to node nd's box at time a (the blend of its two frames'
+    boxes, which holds every triangle of the node at that time)."""
+    d = 0.0
+    for q in range(3):
+        c = px if q == 0 else (py if q == 1 else pz)
+        x = b * nb[nd, q] + a * nb[nd, 6 + q] - c
+        if x > 0.0:
+            d += x * x
+        else:
+            x = c - (b * nb[nd, 3 + q] + a * nb[nd, 9 + q])
+            if x > 0.0:
+                d += x * x
+    return d
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd):
+    """Squared distance, in a frame moving by ``a``·r (r the reference displacement over
+    the frame, p given at time a in world coordinates), from p to the box swept by node nd
+    over the whole frame in that moving frame: no triangle of the node comes nearer to the
+    point's moving-frame position at any time of the frame."""
+    d = 0.0
+    for q in range(3):
+        c = (px - a * rx) if q == 0 else ((py - a * ry) if q == 1 else (pz - a * rz))
+        r = rx if q == 0 else (ry if q == 1 else rz)
+        lo = min(nb[nd, q], nb[nd, 6 + q] - r)
+        hi = max(nb[nd, 3 + q], nb[nd, 9 + q] - r)
+        x = lo - c
+        if x > 0.0:
+            d += x * x
+        else:
+            x = c - hi
+            if x > 0.0:
+                d += x * x
+    return d
+
+
+@numba.njit(cache=True, _nrt=False)
+def closest_triangle_t(px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, root,
+                       best_d2, best_t, stack, inv_t, spd):
+    """Closest triangle to p among one part's hierarchy at time ``alpha``, if nearer than
+    √best_d2, with the node boxes of two frames ``nb`` (K,12), blended at ``alpha`` (tighter
+    than the box swept over the frame: a fast limb is pruned where it is at that time).
+    ``vp`` (N,6) float32 positions at the two frames. Returns (best_d2, best_t, nodes
+    visited, triangles tested, frame_d2): frame_d2 is a lower bound of the squared distance,
+    for the whole frame and in the frame moving by the reference displacement (rx, ry, rz),
+    from the point to every triangle of the part (over the leaves visited and the subtrees
+    pruned).
+
+    ``spd`` (2,) accumulates, for the point's speed bound after the search (see
+    :func:`catwalk.collide.kernels.object_pass`): spd[0] the max over pruned nodes of
+    m − d·``inv_t`` (m the node's speed ``nb[:, 12]``, d its box distance now, inv_t 1 / the
+    rest of the frame), spd[1] the max speed of the leaves visited."""
+    stack[0] = root
+    sp = 1
+    visited = 0
+    tested = 0
+    frame_d2 = np.inf
+    b = 1.0 - alpha
+    while sp > 0:
+        sp -= 1
+        nd = stack[sp]
+        visited += 1
+        d = _lerp_box_d2(px, py, pz, nb, nd, alpha, b)
+        if d >= best_d2:
+            ds = swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, nd)
+            if ds < frame_d2:
+                frame_d2 = ds
+            sv = nb[nd, 12] - math.sqrt(d) * inv_t
+            if sv > spd[0]:
+                spd[0] = sv
+            continue
+        if links[nd, 0] >= 0:
+            if sp + 2 > stack.shape[0]:
+                frame_d2 = 0.0  # (never: the stack holds 2 × the depth limit)
+                continue
+            l = links[nd, 0]
+            r = links[nd, 1]
+            cl = 0.0
+            cr = 0.0
+            for q in range(3):
+                c = px if q == 0 else (py if q == 1 else pz)
+                e = 0.5 * (b * (nb[l, q] + nb[l, 3 + q])
+                           + alpha * (nb[l, 6 + q] + nb[l, 9 + q])) - c
+                cl += e * e
+                e = 0.5 * (b * (nb[r, q] + nb[r, 3 + q])
+                           + alpha * (nb[r, 6 + q] + nb[r, 9 + q])) - c
+                cr += e * e
+            if cl < cr:
+                stack[sp] = r
+                stack[sp + 1] = l
+            else:
+                stack[sp] = l
+                stack[sp + 1] = r
+            sp += 2
+            continue
+        ds = swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, nd)
+        if ds < frame_d2:
+            frame_d2 = ds
+        if nb[nd, 12] > spd[1]:
+            spd[1] = nb[nd, 12]
+        for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
+            t = tris[s]
+            ia = faces[t, 0]
+            ib = faces[t, 1]
+            ic = faces[t, 2]
+            ax = b * vp[ia, 0] + alpha * vp[ia, 3]
+            ay = b * vp[ia, 1] + alpha * vp[ia, 4]
+            az = b * vp[ia, 2] + alpha * vp[ia, 5]
+            bx = b * vp[ib, 0] + alpha * vp[ib, 3]
+            by = b * vp[ib, 1] + alpha * vp[ib, 4]
+            bz = b * vp[ib, 2] + alpha * vp[ib, 5]
+            cx = b * vp[ic, 0] + alpha * vp[ic, 3]
+            cy = b * vp[ic, 1] + alpha * vp[ic, 4]
+            cz = b * vp[ic, 2] + alpha * vp[ic, 5]
+            d = 0.0
+            x = min(ax, min(bx, cx)) - px
+            if x > 0.0:
+                d += x * x
+            else:
+                x = px - max(ax, max(bx, cx))
+                if x > 0.0:
+                    d += x * x
+            x = min(ay, min(by, cy)) - py
+            if x > 0.0:
+                d += x * x
+            else:
+                x = py - max(ay, max(by, cy))
+                if x > 0.0:
+                    d += x * x
+            x = min(az, min(bz, cz)) - pz
+            if x > 0.0:
+                d += x * x
+            else:
+                x = pz - max(az, max(bz, cz))
+                if x > 0.0:
+                    d += x * x
+            if d >= best_d2:
+                continue
+            tested += 1
+            v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+            qx = ax + v * (bx - ax) + w * (cx - ax) - px
+            qy = ay + v * (by - ay) + w * (cy - ay) - py
+            qz = az + v * (bz - az) + w * (cz - az) - pz
+            d = qx * qx + qy * qy + qz * qz
+            if d < best_d2:
+                best_d2 = d
+                best_t = t
+    return best_d2, best_t, visited, tested, frame_d2
 
 
 def depth_of(h: Hierarchy, part: int) -> int:

@@ -11,11 +11,7 @@ from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
 from catwalk.errors import CatwalkError
 from catwalk.render.raster import (
-    CULL_BACK,
-    CULL_FRONT,
-    clear_depth,
     ortho_view,
-    raster_kernel,
     vertex_normals_kernel,
 )
 
@@ -81,6 +77,10 @@ class _Maps:
         self.cur = 0
         self.prev = 0
         self.keys = [-2, -2]  # the frame drawn in each slot
+        self.version = 0  # counts the (prev, cur) contents the look-ups saw
+        self.full = (0, h - 1, 0, w - 1)
+        self.region = [None, None]  # the rows and columns drawn in each slot
+        self._need = np.array([0, h - 1, 0, w - 1], np.int64)
         self.matrix = None
         self.pixel = (0.0, 0.0)
         self.grid_lo = None
@@ -108,14 +108,23 @@ class _Maps:
         self.pixel = cam.pixel
         return True
 
-    def render(self, slot, v, n, w):
-        K.gather(self.matrix, v, n, w, self.vidx, self.sv, self.attrs)
-        for side, cull in ((0, CULL_BACK), (1, CULL_FRONT)):
-            depth = self.D[:, :, slot, side]
-            tri = self.tri[slot, side]
-            clear_depth(side == 1, depth, tri)
-            raster_kernel(self.sv, self.faces, self.attrs, side == 1, depth,
-                          self.A[:, :, side, slot, :], tri, cull)
+    def render(self, slot, v, n, w, region=None):
+        """Draw a slot over ``region`` (r0, r1, c0, c1) of the pixel grid (default: all)."""
+        r0, r1, c0, c1 = region or self.full
+        K.render_maps(self.matrix, v, n, w, self.vidx, self.faces, self.sv, self.attrs, slot,
+                      self.D, self.A, self.tri, r0, r1, c0, c1)
+        self.region[slot] = (r0, r1, c0, c1)
+
+    def need(self, lo, hi, pad):
+        """The rows and columns whose pixels the look-ups of points in the box [lo, hi]
+        (world, grown by ``pad``) can read (2×2 blocks), clipped to the grid."""
+        K.map_region(self.matrix, lo, hi, pad, self.size[0], self.size[1], self._need)
+        return tuple(int(x) for x in self._need)
+
+    def covers(self, slot, need) -> bool:
+        g = self.region[slot]
+        return g is not None and g[0] <= need[0] and g[1] >= need[1] and g[2] <= need[2] \
+            and g[3] >= need[3]
 
     def front_back(self, slot):
         """(front depth, back depth, covered) of a slot, float64 copies."""
@@ -130,6 +139,7 @@ class Collider:
                  friction=0.3, contact_slack=0.0005, search_radius=0.02, max_depth=0.02,
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2,
+                 map_region_pad=0.05,
                  skips: Skips | None = None):
         if mode not in MODES:
             raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
@@ -164,6 +174,7 @@ class Collider:
         self.reuse_tol = float(reuse_tol)
         self.still_tol = float(still_tol)
         self.min_normal_z = float(min_normal_z)
+        self.map_region_pad = float(map_region_pad)
         self.leaf_size = int(leaf_size)
         self.skips = skips or Skips()
         in_maps = {"image": range(5), "hybrid": [0], "object": []}[mode]
@@ -181,17 +192,20 @@ class Collider:
         self._part_vidx = {p: np.unique(self.faces[f]) for p, f in self._part_faces.items()}
         self._active_last = np.zeros(N_PARTS, bool)
         self._clear_frame = -1
-        self._frame_move = 0.0
         self._no_clear = np.zeros(0)
         self._tree_vidx = np.unique(self.faces[np.nonzero(self.tree_parts[self.face_part])[0]])
         # workspaces for the kernels (they run without numba's runtime, so never allocate)
         self._stack = np.empty(B.STACK_SIZE, np.int64)
         self._reach_work = np.zeros(N_PARTS, bool)
-        self._fw = np.zeros(24)
-        self._vb = np.zeros((self.n_vertices, 18))
+        self._vb = np.zeros((self.n_vertices, 18), np.float32)
         self._vp = np.zeros((self.n_vertices, 6), np.float32)
+        self._ref = np.zeros(3)      # the body's mean displacement over the frame
+        self._body_speed = 0.0       # the farthest a tree vertex moves relative to it
         self._packed_frame = -1
-        self._iw = np.zeros(12, np.int64)
+        self._nb = None              # node boxes at the previous and the current frame
+        self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
+        self._img_n = -1
+        self._spd = np.zeros(2)
         self.tree = None  # built from the first frame's pose
         self._refit_done = np.zeros(N_PARTS, bool)
         self._maps_ready = False
@@ -256,6 +270,8 @@ class Collider:
         self.timings.frames += 1
         if first and self.tree_parts.any():
             self.tree = B.build(v, self.faces, self._part_faces, self.leaf_size)
+            self._lv_start, self._lv = B.leaf_vertices(self.tree, self.faces)
+            self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
         if self.maps is not None:
             self._torso_lo[:] = np.inf
             self._torso_hi[:] = -np.inf
@@ -285,49 +301,96 @@ class Collider:
         self._normals_ready = True
         self.timings.normals += _clock() - t
 
-    def _ensure_maps(self):
+    def _ensure_maps(self, lo=None, hi=None):
+        """The maps of the previous and the current frame, drawn over the region the cloth
+        (box [lo, hi], grown by ``map_region_pad``) can reach; everywhere without a box."""
         if self._maps_ready:
-            return
+            if lo is None:
+                need = self.maps.full
+            else:
+                need = self.maps.need(lo, hi, 0.0)
+            mp = self.maps
+            if mp.covers(mp.prev, need) and mp.covers(mp.cur, need):
+                return
+            # the cloth left the region drawn this frame: draw both slots again
+            self._maps_ready = False
         self._ensure_normals()
         t = _clock()
         mp = self.maps
         f = self._frame
         if mp.fit(self.v0, self.v1):
             mp.keys = [-2, -2]  # a new grid: nothing drawn on it yet
+        # what the look-ups need now; what is drawn: that, grown by map_region_pad, so that
+        # the region usually holds for the frame after too (when it becomes the previous)
+        need = mp.full if lo is None else mp.need(lo, hi, 0.0)
+        draw = mp.full if lo is None else mp.need(lo, hi, self.map_region_pad)
         if f == 0:
-            mp.render(0, self.v1, self.n1, self.w1)
+            if not (mp.keys[0] == 0 and mp.covers(0, need)):
+                mp.render(0, self.v1, self.n1, self.w1, draw)
+                self.timings.maps_rendered += 1
             mp.keys = [0, -2]
             mp.prev = mp.cur = 0
-            self.timings.maps_rendered += 1
         else:
             sp = mp.keys.index(f - 1) if (f - 1) in mp.keys else None
+            if sp is None and f in mp.keys and self._maps_still:
+                sp = mp.keys.index(f)  # drawn already this frame (a still body)
             if self._maps_still and sp is not None:
+                if not mp.covers(sp, need):
+                    mp.render(sp, self.v1, self.n1, self.w1, draw)
+                    self.timings.maps_rendered += 1
+                else:
+                    self.timings.maps_skipped += 1
                 mp.prev = mp.cur = sp
                 mp.keys[sp] = f  # frame f looks the same as frame f − 1
-                self.timings.maps_skipped += 1
             else:
-                if sp is None:
-                    sp = 0
-                    mp.render(sp, self.v0, self.n0, self.w0)
+                if f in mp.keys:
+                    sc = mp.keys.index(f)
+                    sp = 1 - sc if mp.keys[1 - sc] == f - 1 else None
+                else:
+                    sc = None
+                if sp is None or not mp.covers(sp, need):
+                    sp = 0 if sc is None else 1 - sc
+                    mp.render(sp, self.v0, self.n0, self.w0, draw)
                     mp.keys[sp] = f - 1
                     self.timings.maps_rendered += 1
                 sc = 1 - sp
-                mp.render(sc, self.v1, self.n1, self.w1)
-                mp.keys[sc] = f
+                if not (mp.keys[sc] == f and mp.covers(sc, need)):
+                    mp.render(sc, self.v1, self.n1, self.w1, draw)
+                    mp.keys[sc] = f
+                    self.timings.maps_rendered += 1
                 mp.prev, mp.cur = sp, sc
-                self.timings.maps_rendered += 1
+        mp.version += 1  # the points' copies of map pixels are stale
         self._maps_ready = True
         self.timings.maps += _clock() - t
+
+    def _pack(self):
+        """The limbs' vertices of both frames, packed for the object pass (once a frame)."""
+        if self._packed_frame == self._frame:
+            return
+        self._ensure_normals()
+        t = _clock()
+        self._body_speed = K.pack_body(self.v0, self.v1, self.n0, self.n1, self.w0, self.w1,
+                                       self._tree_vidx, self._vb, self._vp, self._ref)
+        self._packed_frame = self._frame
+        self.timings.normals += _clock() - t
 
     def _refit(self, active):
         need = active & ~self._refit_done
         if not need.any():
             return
-        self._ensure_normals()
+        self._pack()
         t = _clock()
         h = self.tree
+        nb = self._nb
         for p in np.nonzero(need)[0]:
-            B.refit(self.v0, self.v1, self.faces, h.bounds, h.links, h.tris, h.root[p], h.end[p])
+            a, e = h.root[p], h.end[p]
+            if self._box_frame[p] == self._frame - 1:
+                nb[a:e, 0:6] = nb[a:e, 6:12]  # the previous frame's boxes: already known
+            else:
+                B.refit_frame(self._vp, 0, self._lv_start, self._lv, h.links, nb, a, e)
+            B.refit_frame(self._vp, 1, self._lv_start, self._lv, h.links, nb, a, e)
+            B.node_speeds(self._vp, self._ref, self._lv_start, self._lv, h.links, nb, a, e)
+            self._box_frame[p] = self._frame
             self._refit_done[p] = True
             self.timings.parts_refit += 1
         self.timings.refit += _clock() - t
@@ -421,6 +484,10 @@ class Collider:
             self._cache_c = np.zeros((n, 3))
             self._clear = np.zeros(n)
             self._clear_rel = np.zeros(n)
+            self._rkey = np.full(n, -1, np.int64)
+            self._pspeed = np.zeros(n)
+            self._pstamp = np.full(n, -1, np.int64)
+            self._rec = np.zeros((n, 54), np.float32)
             self._cache_n = n
         if np.any(active & ~self._active_last):
             self._clear_rel[:] = 0.0  # a part came into play: no clearance bounds it
@@ -428,27 +495,20 @@ class Collider:
             # clearances hold against this frame's swept boxes of the parts then in play
             self._clear[:] = 0.0
             self._clear_frame = self._frame
-            # how far any vertex of the parts in play moves during this frame
-            vi = self._tree_vidx
-            self._frame_move = K.max_displacement(self.v0, self.v1, vi) * np.sqrt(3.0)
         self._active_last = active.copy()
-        body_step = self._frame_move * max(alpha - alpha_prev, 0.0)
+        self._pack()
         h = self.tree
         t = _clock()
-        if self._packed_frame != self._frame:
-            t = _clock()
-            K.pack_body(self.v0, self.v1, self.n0, self.n1, self.w0, self.w1, self._vb,
-                        self._vp)
-            self._packed_frame = self._frame
-            self.timings.normals += _clock() - t
-        K.object_pass(pos, vel, prev, alpha, alpha_prev, self._vb, self._vp, self.faces,
-                      self.face_part,
-                      h.bounds, h.links, h.tris,
+        K.object_pass(pos, vel, prev, alpha, alpha_prev, self._ref, self._vb, self._vp,
+                      self.faces, self.face_part, self._nb, h.links, h.tris,
                       h.root, active, lo, hi, self.thickness, self.friction, self.contact_slack,
                       self.search_radius, self.max_depth, self.skips.far_points,
-                      self.skips.reuse_closest, self.reuse_tol, self.skips.clearance, body_step,
+                      self.skips.reuse_closest, self.reuse_tol, self.skips.clearance,
+                      self._body_speed,
                       self._cache_tri, self._cache_p, self._cache_c, self._clear,
-                      self._clear_rel, held, self.stats, self._stack, self._reach_work)
+                      self._clear_rel, held, self.stats, self._stack, self._reach_work,
+                      self._frame, self._rkey, self._rec, self._pspeed, self._pstamp,
+                      self._spd)
         self.timings.object_queries += _clock() - t
 
     def _image(self, pos, vel, alpha, lo, hi, held):
@@ -456,13 +516,19 @@ class Collider:
                                            np.any(self._torso_hi < lo)):
             self.stats[K.ST_SKIPPED] += len(pos)
             return
-        self._ensure_maps()
+        self._ensure_maps(lo, hi)
         mp = self.maps
         t = _clock()
-        K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, self._torso_lo,
-                     self._torso_hi, self.thickness, self.friction, self.contact_slack,
-                     self.min_normal_z, self.skips.far_points, held, self.stats, self._fw,
-                     self._iw, *self._clearances(len(pos)))
+        n = len(pos)
+        if self._img_n != n:
+            self._pkey = np.full((n, 3), -1, np.int64)
+            self._pdep = np.zeros((n, 16), np.float32)
+            self._patt = np.zeros((n, 12), np.float32)
+            self._img_n = n
+        K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
+                     self._torso_lo, self._torso_hi, self.thickness, self.friction,
+                     self.contact_slack, self.min_normal_z, self.skips.far_points, held,
+                     self.stats, self._pkey, self._pdep, self._patt, *self._clearances(n))
         self.timings.image_queries += _clock() - t
 
     def _clearances(self, n):

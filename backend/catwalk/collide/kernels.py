@@ -17,7 +17,12 @@ import math
 import numba
 import numpy as np
 
-from catwalk.collide.bvh import box_dist2, closest_on_triangle, closest_triangle
+from catwalk.collide.bvh import (
+    _lerp_box_d2,
+    closest_on_triangle,
+    closest_triangle_t,
+    swept_box_d2,
+)
 
 ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS = range(8)
 N_STATS = 8
@@ -101,12 +106,32 @@ def _signed(px, py, pz, vb, faces, t, alpha):
 
 
 @numba.njit(cache=True, _nrt=False)
-def pack_body(v0, v1, n0, n1, w0, w1, vb, vp):
-    """Interleave the two frames' positions, normals, velocities per vertex into ``vb``
-    (N,18), so that one vertex is three adjacent cache lines, not six scattered ones; and the
-    positions alone into ``vp`` (N,6) float32, small enough to stay in cache during the
-    hierarchy walks (which only look at positions)."""
-    for i in range(v0.shape[0]):
+def pack_body(v0, v1, n0, n1, w0, w1, idx, vb, vp, ref):
+    """Per frame, for the vertices ``idx`` (those of the parts in hierarchies): interleave
+    the two frames' positions, normals, velocities per vertex into ``vb`` (N,18) float32
+    (previous frame 0–2, 6–8, 12–14; current 3–5, 9–11, 15–17), one vertex in 72 bytes; and
+    the positions alone into ``vp`` (N,6) float32, small enough to stay in cache during the
+    hierarchy walks. ``ref`` (3,) gets the reference displacement of the frame (the mean
+    over all vertices: the body's walk); returns the farthest any vertex ``idx`` moves
+    relative to it during the frame (2-norm)."""
+    n = v0.shape[0]
+    rx = 0.0
+    ry = 0.0
+    rz = 0.0
+    for i in range(n):
+        rx += v1[i, 0] - v0[i, 0]
+        ry += v1[i, 1] - v0[i, 1]
+        rz += v1[i, 2] - v0[i, 2]
+    if n > 0:
+        rx /= n
+        ry /= n
+        rz /= n
+    ref[0] = rx
+    ref[1] = ry
+    ref[2] = rz
+    best = 0.0
+    for k in range(idx.shape[0]):
+        i = idx[k]
         for q in range(3):
             vp[i, q] = v0[i, q]
             vp[i, 3 + q] = v1[i, q]
@@ -116,26 +141,95 @@ def pack_body(v0, v1, n0, n1, w0, w1, vb, vp):
             vb[i, 9 + q] = n1[i, q]
             vb[i, 12 + q] = w0[i, q]
             vb[i, 15 + q] = w1[i, q]
+        dx = v1[i, 0] - v0[i, 0] - rx
+        dy = v1[i, 1] - v0[i, 1] - ry
+        dz = v1[i, 2] - v0[i, 2] - rz
+        d = dx * dx + dy * dy + dz * dz
+        if d > best:
+            best = d
+    return math.sqrt(best)
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _fill_record(rec, i, vb, faces, t):
+    """Copy triangle t's three vertices (positions, normals, velocities of both frames:
+    18 floats each, as in ``vb``) into the point's record ``rec[i]`` (54 floats)."""
+    for c in range(3):
+        v = faces[t, c]
+        for q in range(18):
+            rec[i, 18 * c + q] = vb[v, q]
 
 
 @numba.njit(cache=True, _nrt=False)
-def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
-                bounds, links, tris, roots, part_active, cloth_lo, cloth_hi, thickness, friction,
+def _signed_rec(px, py, pz, rec, i, alpha):
+    """:func:`_signed` against the triangle copied in ``rec[i]`` (see :func:`_fill_record`)."""
+    k = 1.0 - alpha
+    ax = k * rec[i, 0] + alpha * rec[i, 3]
+    ay = k * rec[i, 1] + alpha * rec[i, 4]
+    az = k * rec[i, 2] + alpha * rec[i, 5]
+    bx = k * rec[i, 18] + alpha * rec[i, 21]
+    by = k * rec[i, 19] + alpha * rec[i, 22]
+    bz = k * rec[i, 20] + alpha * rec[i, 23]
+    cx = k * rec[i, 36] + alpha * rec[i, 39]
+    cy = k * rec[i, 37] + alpha * rec[i, 40]
+    cz = k * rec[i, 38] + alpha * rec[i, 41]
+    v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+    u = 1.0 - v - w
+    qx = ax + v * (bx - ax) + w * (cx - ax)
+    qy = ay + v * (by - ay) + w * (cy - ay)
+    qz = az + v * (bz - az) + w * (cz - az)
+    nx = u * (k * rec[i, 6] + alpha * rec[i, 9]) + v * (k * rec[i, 24] + alpha * rec[i, 27]) + \
+        w * (k * rec[i, 42] + alpha * rec[i, 45])
+    ny = u * (k * rec[i, 7] + alpha * rec[i, 10]) + v * (k * rec[i, 25] + alpha * rec[i, 28]) + \
+        w * (k * rec[i, 43] + alpha * rec[i, 46])
+    nz = u * (k * rec[i, 8] + alpha * rec[i, 11]) + v * (k * rec[i, 26] + alpha * rec[i, 29]) + \
+        w * (k * rec[i, 44] + alpha * rec[i, 47])
+    nl = math.sqrt(nx * nx + ny * ny + nz * nz)
+    if nl < 1e-12:  # degenerate: use the face normal
+        nx = (by - ay) * (cz - az) - (bz - az) * (cy - ay)
+        ny = (bz - az) * (cx - ax) - (bx - ax) * (cz - az)
+        nz = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+        nl = math.sqrt(nx * nx + ny * ny + nz * nz) + 1e-300
+    nx /= nl
+    ny /= nl
+    nz /= nl
+    s = (px - qx) * nx + (py - qy) * ny + (pz - qz) * nz
+    return s, nx, ny, nz, v, w
+
+
+@numba.njit(cache=True, _nrt=False)
+def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part,
+                nb, links, tris, roots, part_active, cloth_lo, cloth_hi, thickness, friction,
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
-                body_step, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
-                reach):
+                body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
+                reach, frame, rkey, rec, pspeed, pstamp, spd):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
+    The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
+    current frame; at time ``alpha`` a node's box is their blend. Clearances are measured in
+    the frame that moves with ``ref`` (the body's mean displacement over the frame: the
+    walk), so that the body's and the cloth's common motion does not use them up.
+
     Per point: (1) clearance: while ``clear[i]`` (how much closer the point may come to the
-    body's swept leaf boxes of this frame before it could touch; reset every frame) stays
-    positive after subtracting the point's motion, or ``clear_rel[i]`` (how much closer it
-    may come to the body as it was at the last search) stays positive after subtracting the
-    point's motion and ``body_step`` (the farthest any active part's vertex moves in this
-    substep), nothing else is done; (2) the cached
-    closest triangle is reused while the point moved less than ``reuse_tol`` relative to it;
-    (3) else the hierarchies are searched within ``search_radius`` + the point's motion;
-    (4) signed distance to the closest triangle, collision and response."""
+    boxes swept by the body's leaves over this frame, in the moving frame; reset every
+    frame) stays positive after subtracting the point's motion in the moving frame, or
+    ``clear_rel[i]`` (how much closer it may come to the body as it was at the last search)
+    stays positive after subtracting that motion and ``body_speed`` × the substep's share of
+    the frame (the farthest any active part's vertex moves relative to ``ref`` in a frame),
+    nothing else is done; (2) the cached closest triangle is reused while the point moved
+    less than ``reuse_tol`` relative to it; (3) else the hierarchies are searched within
+    ``search_radius`` + the point's motion; (4) signed distance to the closest triangle,
+    collision and response.
+
+    ``rkey`` (P,) int64 and ``rec`` (P,54) float32: each point's copy of its closest
+    triangle's vertices for this ``frame`` (see :func:`_fill_record`), read in point order
+    while the triangle is reused, instead of the scattered vertices. ``pspeed``/``pstamp``
+    (P,): a speed bound for ``clear_rel`` found by the point's last search in frame
+    ``pstamp`` (the nodes near it move slower than the fastest vertex): how fast the
+    body's triangles can approach it during the rest of that frame; in another frame,
+    ``body_speed``. ``spd`` (2,) workspace."""
     n_parts = roots.shape[0]
+    fkey = frame << 32
     any_part = False
     for k in range(n_parts):
         reach[k] = False
@@ -144,8 +238,8 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
         r = roots[k]
         ok = True
         for q in range(3):
-            if bounds[r, q] > cloth_hi[q] + search_radius or \
-                    bounds[r, 3 + q] < cloth_lo[q] - search_radius:
+            if min(nb[r, q], nb[r, 6 + q]) > cloth_hi[q] + search_radius or \
+                    max(nb[r, 3 + q], nb[r, 9 + q]) < cloth_lo[q] - search_radius:
                 ok = False
         reach[k] = ok or not skip_far
         any_part = any_part or reach[k]
@@ -154,6 +248,13 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
         return
     touch = thickness + slack
     b = 1.0 - alpha
+    da = max(alpha - alpha_prev, 0.0)
+    rx = ref[0]
+    ry = ref[1]
+    rz = ref[2]
+    body_step = body_speed * da
+    rest = 1.0 - alpha
+    inv_t = 1.0 / rest if rest > 1e-9 else 0.0
     for i in range(pos.shape[0]):
         px = pos[i, 0]
         py = pos[i, 1]
@@ -161,48 +262,81 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
         dx = px - prev[i, 0]
         dy = py - prev[i, 1]
         dz = pz - prev[i, 2]
-        move = math.sqrt(dx * dx + dy * dy + dz * dz)
         if use_clear:
-            clear[i] -= move
-            clear_rel[i] -= move + body_step
-            if clear[i] > 0.0 or clear_rel[i] > 0.0:
+            ex = dx - da * rx
+            ey = dy - da * ry
+            ez = dz - da * rz
+            rel = math.sqrt(ex * ex + ey * ey + ez * ez)
+            c1 = clear[i] - rel
+            c2 = clear_rel[i] - rel - (pspeed[i] * da if pstamp[i] == frame else body_step)
+            clear[i] = c1
+            clear_rel[i] = c2
+            if c1 > 0.0 or c2 > 0.0:
                 stats[ST_CLEAR] += 1
                 continue
+        move = math.sqrt(dx * dx + dy * dy + dz * dz)
         r = search_radius + move
         best_d2 = r * r if skip_far else np.inf
         best_t = -1
+        seed = -1
         searched = False
         # reuse the closest triangle if the point barely moved relative to it
         t = cache_tri[i] if use_cache else -1
         if t >= 0 and part_active[face_part[t]]:
-            ia = faces[t, 0]
-            ib = faces[t, 1]
-            ic = faces[t, 2]
-            gx = (b * (vp[ia, 0] + vp[ib, 0] + vp[ic, 0])
-                  + alpha * (vp[ia, 3] + vp[ib, 3] + vp[ic, 3])) / 3.0
-            gy = (b * (vp[ia, 1] + vp[ib, 1] + vp[ic, 1])
-                  + alpha * (vp[ia, 4] + vp[ib, 4] + vp[ic, 4])) / 3.0
-            gz = (b * (vp[ia, 2] + vp[ib, 2] + vp[ic, 2])
-                  + alpha * (vp[ia, 5] + vp[ib, 5] + vp[ic, 5])) / 3.0
+            if rkey[i] != fkey | t:
+                _fill_record(rec, i, vb, faces, t)
+                rkey[i] = fkey | t
+            gx = (b * (rec[i, 0] + rec[i, 18] + rec[i, 36])
+                  + alpha * (rec[i, 3] + rec[i, 21] + rec[i, 39])) / 3.0
+            gy = (b * (rec[i, 1] + rec[i, 19] + rec[i, 37])
+                  + alpha * (rec[i, 4] + rec[i, 22] + rec[i, 40])) / 3.0
+            gz = (b * (rec[i, 2] + rec[i, 20] + rec[i, 38])
+                  + alpha * (rec[i, 5] + rec[i, 23] + rec[i, 41])) / 3.0
             ex = (px - cache_p[i, 0]) - (gx - cache_c[i, 0])
             ey = (py - cache_p[i, 1]) - (gy - cache_c[i, 1])
             ez = (pz - cache_p[i, 2]) - (gz - cache_c[i, 2])
             if ex * ex + ey * ey + ez * ez < reuse_tol * reuse_tol:
                 best_t = t
                 stats[ST_REUSED] += 1
+            else:
+                # the search below starts from this triangle's distance: it prunes more
+                k = 1.0 - alpha
+                ax = k * rec[i, 0] + alpha * rec[i, 3]
+                ay = k * rec[i, 1] + alpha * rec[i, 4]
+                az = k * rec[i, 2] + alpha * rec[i, 5]
+                bx = k * rec[i, 18] + alpha * rec[i, 21]
+                by = k * rec[i, 19] + alpha * rec[i, 22]
+                bz = k * rec[i, 20] + alpha * rec[i, 23]
+                cx = k * rec[i, 36] + alpha * rec[i, 39]
+                cy = k * rec[i, 37] + alpha * rec[i, 40]
+                cz = k * rec[i, 38] + alpha * rec[i, 41]
+                v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+                qx = ax + v * (bx - ax) + w * (cx - ax) - px
+                qy = ay + v * (by - ay) + w * (cy - ay) - py
+                qz = az + v * (bz - az) + w * (cz - az) - pz
+                d2 = qx * qx + qy * qy + qz * qz
+                if d2 < best_d2:
+                    best_d2 = d2
+                    seed = t
         if best_t < 0:
+            best_t = seed
             boxed = False
-            lower = best_d2  # squared distance bound to every part's swept leaves
+            spd[0] = 0.0
+            spd[1] = 0.0
+            lower = np.inf  # squared bound, over the frame, to every part's triangles
             for k in range(n_parts):
-                if not reach[k]:
+                if not part_active[k]:
                     continue
                 rt = roots[k]
-                if skip_far and box_dist2(px, py, pz, bounds, rt) >= best_d2:
+                dr = _lerp_box_d2(px, py, pz, nb, rt, alpha, b)
+                if not reach[k] or (skip_far and dr >= best_d2):
+                    lower = min(lower, swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, rt))
+                    spd[0] = max(spd[0], nb[rt, 12] - math.sqrt(dr) * inv_t)
                     continue
                 boxed = True
-                best_d2, best_t, nv, nt, ld2 = closest_triangle(
-                    px, py, pz, vp, faces, alpha, bounds, links, tris, rt, best_d2, best_t,
-                    stack)
+                best_d2, best_t, nv, nt, ld2 = closest_triangle_t(
+                    px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, rt, best_d2,
+                    best_t, stack, inv_t, spd)
                 lower = min(lower, ld2)
                 stats[ST_NODES] += nv
                 stats[ST_TRIS] += nt
@@ -213,27 +347,31 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
             else:
                 stats[ST_SKIPPED] += 1
             if use_clear and skip_far:
-                # no swept leaf box of any part is nearer than √lower during this frame, and
-                # no triangle nearer than √best_d2 now
+                # no leaf box swept over this frame (moving frame) is nearer than √lower,
+                # and no triangle nearer than √best_d2 now
                 clear[i] = math.sqrt(lower) - touch
+                # and during the rest of this frame none approaches faster than this
+                dd = math.sqrt(best_d2)
+                pspeed[i] = max(spd[0] + dd * inv_t, spd[1], 0.0) if rest > 1e-9 else 0.0
+                pstamp[i] = frame
                 if best_t < 0:
-                    clear_rel[i] = math.sqrt(best_d2) - touch
+                    clear_rel[i] = dd - touch
             if best_t < 0:
                 if use_cache:
                     cache_tri[i] = -1
                 continue
+            if rkey[i] != fkey | best_t:
+                _fill_record(rec, i, vb, faces, best_t)
+                rkey[i] = fkey | best_t
             if use_cache:
-                ia = faces[best_t, 0]
-                ib = faces[best_t, 1]
-                ic = faces[best_t, 2]
                 cache_tri[i] = best_t
                 for q in range(3):
-                    cache_c[i, q] = (b * (vp[ia, q] + vp[ib, q] + vp[ic, q]) + alpha * (
-                        vp[ia, 3 + q] + vp[ib, 3 + q] + vp[ic, 3 + q])) / 3.0
+                    cache_c[i, q] = (b * (rec[i, q] + rec[i, 18 + q] + rec[i, 36 + q]) + alpha * (
+                        rec[i, 3 + q] + rec[i, 21 + q] + rec[i, 39 + q])) / 3.0
                 cache_p[i, 0] = px
                 cache_p[i, 1] = py
                 cache_p[i, 2] = pz
-        s, nx, ny, nz, bv, bw = _signed(px, py, pz, vb, faces, best_t, alpha)
+        s, nx, ny, nz, bv, bw = _signed_rec(px, py, pz, rec, i, alpha)
         if s >= touch:
             if use_clear and searched and best_d2 < np.inf:
                 # outside: no triangle nearer than √best_d2 now (a point inside has none)
@@ -241,8 +379,8 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
             continue
         if s <= -max_depth:
             # deep: a collision only if the point crossed the surface during this substep
-            sp, _, _, _, _, _ = _signed(prev[i, 0], prev[i, 1], prev[i, 2], vb, faces, best_t,
-                                        alpha_prev)
+            sp, _, _, _, _, _ = _signed_rec(prev[i, 0], prev[i, 1], prev[i, 2], rec, i,
+                                            alpha_prev)
             if sp < 0.0:
                 continue
         held[i] = True
@@ -252,153 +390,181 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, vb, vp, faces, face_part,
         if s >= thickness:
             continue  # touching: held, nothing to fix
         bu = 1.0 - bv - bw
-        ia = faces[best_t, 0]
-        ib = faces[best_t, 1]
-        ic = faces[best_t, 2]
-        bvx = b * (bu * vb[ia, 12] + bv * vb[ib, 12] + bw * vb[ic, 12]) + \
-            alpha * (bu * vb[ia, 15] + bv * vb[ib, 15] + bw * vb[ic, 15])
-        bvy = b * (bu * vb[ia, 13] + bv * vb[ib, 13] + bw * vb[ic, 13]) + \
-            alpha * (bu * vb[ia, 16] + bv * vb[ib, 16] + bw * vb[ic, 16])
-        bvz = b * (bu * vb[ia, 14] + bv * vb[ib, 14] + bw * vb[ic, 14]) + \
-            alpha * (bu * vb[ia, 17] + bv * vb[ib, 17] + bw * vb[ic, 17])
+        bvx = b * (bu * rec[i, 12] + bv * rec[i, 30] + bw * rec[i, 48]) + \
+            alpha * (bu * rec[i, 15] + bv * rec[i, 33] + bw * rec[i, 51])
+        bvy = b * (bu * rec[i, 13] + bv * rec[i, 31] + bw * rec[i, 49]) + \
+            alpha * (bu * rec[i, 16] + bv * rec[i, 34] + bw * rec[i, 52])
+        bvz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
+            alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
         respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
 
 
 @numba.njit(cache=True, _nrt=False)
-def image_pass(pos, vel, alpha, m, D, A, s0, s1, box_lo, box_hi, thickness, friction, slack,
-               min_nz, skip_far, held, stats, fw, iw, clear, clear_rel):
+def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
+               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, clear, clear_rel):
     """Image-space collision of every cloth point against front/back depth maps at time
     ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps.
 
-    ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). Packed so one
-    look-up touches few cache lines: ``D`` (H,W,2 slots,2 sides) float32 depth (side 0 front =
-    nearest, 1 back = farthest; −inf/+inf where empty), bilinear over the covered pixels;
-    ``A`` (H,W,2 sides,2 slots,6) float32 per-pixel normal (3) and body velocity (3), taken
-    from the nearest covered pixel. ``clear``/``clear_rel``: the object pass's clearances
-    (empty when there is none), reduced by every push made here."""
+    ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). ``D``
+    (H,W,2 slots,2 sides) float32 depth (side 0 front = nearest, 1 back = farthest;
+    −inf/+inf where empty), bilinear over the covered pixels; ``A`` (H,W,2 sides,2 slots,6)
+    float32 per-pixel normal (3) and body velocity (3), taken from the nearest covered pixel.
+
+    The maps do not change during a frame and a point's pixel changes slowly, so each point
+    keeps a copy of what it read (``version`` numbers the maps' contents): ``pkey`` (P,3)
+    int64 (its 2×2 pixel block; the pixels and side its attributes came from), ``pdep``
+    (P,16) float32 (the block's depths: pixel q, slot u, side k at 4u + 8k + q... see below),
+    ``patt`` (P,12) float32 (normal and velocity, both slots). Read in order, one point after
+    the other, they stay cheap where the maps' scattered pixels would miss the cache.
+    ``clear``/``clear_rel``: the object pass's clearances (empty when there is none),
+    reduced by every push made here."""
     h = D.shape[0]
     w = D.shape[1]
-    # workspaces from the caller (this kernel runs without numba's runtime: no allocation)
-    acc = fw[0:6]
-    wt = fw[6:10]
-    gs = fw[10:12]
-    gf = fw[12:14]
-    gb = fw[14:16]
-    ww = fw[16:24].reshape((2, 4))
-    ri = iw[0:4]
-    ci = iw[4:8]
-    okp = iw[8:12]
     cx = m[2, 0]
     cy = m[2, 1]
     cz = m[2, 2]
     reach = (thickness + slack) / min_nz
+    vkey = version << 40
+    akey = version << 30
+    st = math.sqrt(1.0 - min_nz * min_nz)
+    has_clear = clear.shape[0] > 0
+    n_skip = 0
+    n_box = 0
+    n_narrow = 0
+    n_contact = 0
     for i in range(pos.shape[0]):
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
         if skip_far and (px < box_lo[0] or px > box_hi[0] or py < box_lo[1] or
                          py > box_hi[1] or pz < box_lo[2] or pz > box_hi[2]):
-            stats[ST_SKIPPED] += 1
+            n_skip += 1
             continue
-        stats[ST_BOXED] += 1
+        n_box += 1
         x = m[0, 0] * px + m[0, 1] * py + m[0, 2] * pz + m[0, 3]
         y = m[1, 0] * px + m[1, 1] * py + m[1, 2] * pz + m[1, 3]
         z = cx * px + cy * py + cz * pz + m[2, 3]
         if not (x >= 0.0 and x < w and y >= 0.0 and y < h):
             continue
-        stats[ST_NARROW] += 1
+        n_narrow += 1
         fx = x - 0.5
         fy = y - 0.5
         j0 = int(math.floor(fx))
         i0 = int(math.floor(fy))
         tx = fx - j0
         ty = fy - i0
-        # bilinear weights of the 2×2 pixel block, per slot zeroed where not covered
-        # (written out: numba calls cost more than this work)
-        i1 = i0 + 1
-        j1 = j0 + 1
-        ok0 = i0 >= 0
-        ok1 = i1 < h
-        okl = j0 >= 0
-        okr = j1 < w
-        a0 = max(i0, 0)
-        b0_ = max(j0, 0)
-        a1 = min(i1, h - 1)
-        b1_ = min(j1, w - 1)
-        wt[0] = (1.0 - tx) * (1.0 - ty)
-        wt[1] = tx * (1.0 - ty)
-        wt[2] = (1.0 - tx) * ty
-        wt[3] = tx * ty
-        okp[0] = 1 if (ok0 and okl) else 0
-        okp[1] = 1 if (ok0 and okr) else 0
-        okp[2] = 1 if (ok1 and okl) else 0
-        okp[3] = 1 if (ok1 and okr) else 0
-        ri[0] = a0
-        ri[1] = a0
-        ri[2] = a1
-        ri[3] = a1
-        ci[0] = b0_
-        ci[1] = b1_
-        ci[2] = b0_
-        ci[3] = b1_
-        for u in range(2):
-            sl = s0 if u == 0 else s1
-            ws = 0.0
-            fz = 0.0
-            bz = 0.0
+        key = vkey | ((i0 + 1) << 20) | (j0 + 1)
+        if pkey[i, 0] != key:
+            # the 2×2 block's depths, both slots and sides (−inf/+inf off the map)
             for q in range(4):
-                wq = 0.0
-                if okp[q] != 0:
-                    zf_ = D[ri[q], ci[q], sl, 0]
-                    if zf_ > -np.inf:
-                        wq = wt[q]
-                        fz += wq * zf_
-                        bz += wq * D[ri[q], ci[q], sl, 1]
-                ww[u, q] = wq
-                ws += wq
-            gs[u] = ws
-            if ws > 0.0:
-                gf[u] = fz / ws
-                gb[u] = bz / ws
-                for q in range(4):
-                    ww[u, q] /= ws
-        if gs[0] > 0.0 and gs[1] > 0.0:
+                ii = i0 + (q >> 1)
+                jj = j0 + (q & 1)
+                inside = ii >= 0 and ii < h and jj >= 0 and jj < w
+                for u in range(2):
+                    sl = s0 if u == 0 else s1
+                    if inside:
+                        pdep[i, 4 * u + q] = D[ii, jj, sl, 0]
+                        pdep[i, 8 + 4 * u + q] = D[ii, jj, sl, 1]
+                    else:
+                        pdep[i, 4 * u + q] = -np.inf
+                        pdep[i, 8 + 4 * u + q] = np.inf
+            pkey[i, 0] = key
+        w00 = (1.0 - tx) * (1.0 - ty)
+        w01 = tx * (1.0 - ty)
+        w10 = (1.0 - tx) * ty
+        w11 = tx * ty
+        # per slot: bilinear over the covered pixels, and the covered pixel of most weight
+        ws0 = 0.0
+        zf0 = 0.0
+        zb0 = 0.0
+        q0 = -1
+        wq0 = -1.0
+        ws1 = 0.0
+        zf1 = 0.0
+        zb1 = 0.0
+        q1 = -1
+        wq1 = -1.0
+        for q in range(4):
+            wq = w00 if q == 0 else (w01 if q == 1 else (w10 if q == 2 else w11))
+            f = pdep[i, q]
+            if f > -np.inf:
+                ws0 += wq
+                zf0 += wq * f
+                zb0 += wq * pdep[i, 8 + q]
+                if wq > wq0:
+                    wq0 = wq
+                    q0 = q
+            f = pdep[i, 4 + q]
+            if f > -np.inf:
+                ws1 += wq
+                zf1 += wq * f
+                zb1 += wq * pdep[i, 12 + q]
+                if wq > wq1:
+                    wq1 = wq
+                    q1 = q
+        if ws0 > 0.0 and ws1 > 0.0:
             ka = 1.0 - alpha
             kb = alpha
-        elif gs[1] > 0.0:
+        elif ws1 > 0.0:
             ka = 0.0
             kb = 1.0
-        elif gs[0] > 0.0:
+        elif ws0 > 0.0:
             ka = 1.0
             kb = 0.0
         else:
             continue
-        zf = ka * gf[0] + kb * gf[1]
-        zb = ka * gb[0] + kb * gb[1]
+        zf = 0.0
+        zb = 0.0
+        if ka > 0.0:
+            zf += ka * zf0 / ws0
+            zb += ka * zb0 / ws0
+        if kb > 0.0:
+            zf += kb * zf1 / ws1
+            zb += kb * zb1 / ws1
         # beyond reach along the view axis (at a slope n_z ≥ min_nz the gap is ≤ d / min_nz)
         if z >= zf + reach or z <= zb - reach:
             continue
         front = (zf - z) <= (z - zb)
         side = 0 if front else 1
-        for q in range(6):
-            acc[q] = 0.0
-        # normal and velocity from the covered pixel of the block nearest the point (one
-        # cache line for both slots; bilinear here would cost four times the memory traffic
-        # for attributes that barely change across a pixel)
-        for u in range(2):
-            k = ka if u == 0 else kb
-            if k <= 0.0:
-                continue
-            sl = s0 if u == 0 else s1
-            qb = 0
-            for q in range(1, 4):
-                if ww[u, q] > ww[u, qb]:
-                    qb = q
-            for c in range(6):
-                acc[c] += k * A[ri[qb], ci[qb], side, sl, c]
-        nx = acc[0]
-        ny = acc[1]
-        nz = acc[2]
+        # normal and velocity from the covered pixel of the block nearest the point
+        pix0 = (i0 + (q0 >> 1)) * w + j0 + (q0 & 1) if (ka > 0.0 and q0 >= 0) else -1
+        pix1 = (i0 + (q1 >> 1)) * w + j0 + (q1 & 1) if (kb > 0.0 and q1 >= 0) else -1
+        k0 = akey | (side << 28) | (pix0 + 1)
+        k1 = akey | (side << 28) | (pix1 + 1)
+        if pkey[i, 1] != k0:
+            if pix0 >= 0:
+                ii = pix0 // w
+                jj = pix0 - ii * w
+                for c in range(6):
+                    patt[i, c] = A[ii, jj, side, s0, c]
+            pkey[i, 1] = k0
+        if pkey[i, 2] != k1:
+            if pix1 >= 0:
+                ii = pix1 // w
+                jj = pix1 - ii * w
+                for c in range(6):
+                    patt[i, 6 + c] = A[ii, jj, side, s1, c]
+            pkey[i, 2] = k1
+        nx = 0.0
+        ny = 0.0
+        nz = 0.0
+        bvx = 0.0
+        bvy = 0.0
+        bvz = 0.0
+        if ka > 0.0:
+            nx += ka * patt[i, 0]
+            ny += ka * patt[i, 1]
+            nz += ka * patt[i, 2]
+            bvx += ka * patt[i, 3]
+            bvy += ka * patt[i, 4]
+            bvz += ka * patt[i, 5]
+        if kb > 0.0:
+            nx += kb * patt[i, 6]
+            ny += kb * patt[i, 7]
+            nz += kb * patt[i, 8]
+            bvx += kb * patt[i, 9]
+            bvy += kb * patt[i, 10]
+            bvz += kb * patt[i, 11]
         sgn = 1.0 if front else -1.0
         nl = math.sqrt(nx * nx + ny * ny + nz * nz)
         if nl > 1e-12:
@@ -412,7 +578,6 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, box_lo, box_hi, thickness, fric
             ty_ = ny - sgn * ndc * cy
             tz_ = nz - sgn * ndc * cz
             tl = math.sqrt(tx_ * tx_ + ty_ * ty_ + tz_ * tz_)
-            st = math.sqrt(1.0 - min_nz * min_nz)
             if tl > 1e-12:
                 nx = tx_ / tl * st + sgn * min_nz * cx
                 ny = ty_ / tl * st + sgn * min_nz * cy
@@ -427,13 +592,17 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, box_lo, box_hi, thickness, fric
         if s >= thickness + slack:
             continue
         held[i] = True
-        stats[ST_CONTACT] += 1
+        n_contact += 1
         if s < thickness:
-            respond(pos, vel, i, nx, ny, nz, s, thickness, acc[3], acc[4], acc[5], friction)
-            if clear.shape[0] > 0:
+            respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
+            if has_clear:
                 # the object pass's clearances did not see this push
                 clear[i] -= thickness - s
                 clear_rel[i] -= thickness - s
+    stats[ST_SKIPPED] += n_skip
+    stats[ST_BOXED] += n_box
+    stats[ST_NARROW] += n_narrow
+    stats[ST_CONTACT] += n_contact
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -487,3 +656,165 @@ def max_displacement(a, b, idx):
             if d > best:
                 best = d
     return best
+
+
+@numba.njit(cache=True, _nrt=False)
+def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, c1):
+    """Draw one slot of the front and back depth maps (see :class:`~catwalk.collide.
+    collider._Maps`) of the triangles ``faces`` (over the mapped vertices ``idx`` of ``v``,
+    with normals ``n`` and velocities ``w``), only within rows r0…r1 and columns c0…c1 (the
+    region the cloth can reach): the region is cleared and every triangle facing the camera
+    drawn into the front map (nearest kept), every triangle facing away into the back map
+    (farthest kept), in one pass. Inside the region the result is exactly that of
+    :func:`catwalk.render.raster.raster_kernel` with back- and front-face culling over the
+    whole map (same coverage rule, same order); outside it the maps are left as they were.
+    ``sv``/``attrs``: workspaces for the screen positions and attributes of ``idx``."""
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        x = v[i, 0]
+        y = v[i, 1]
+        z = v[i, 2]
+        for r in range(3):
+            sv[k, r] = m[r, 0] * x + m[r, 1] * y + m[r, 2] * z + m[r, 3]
+            attrs[k, r] = n[i, r]
+            attrs[k, 3 + r] = w[i, r]
+    for i in range(r0, r1 + 1):
+        for j in range(c0, c1 + 1):
+            D[i, j, slot, 0] = -np.inf
+            D[i, j, slot, 1] = np.inf
+            tri[slot, 0, i, j] = -1
+            tri[slot, 1, i, j] = -1
+    eps = 1e-9
+    for t in range(faces.shape[0]):
+        a = faces[t, 0]
+        b = faces[t, 1]
+        c = faces[t, 2]
+        x0 = sv[a, 0]
+        y0 = sv[a, 1]
+        x1 = sv[b, 0]
+        y1 = sv[b, 1]
+        x2 = sv[c, 0]
+        y2 = sv[c, 1]
+        xmin = min(x0, min(x1, x2))
+        xmax = max(x0, max(x1, x2))
+        ymin = min(y0, min(y1, y2))
+        ymax = max(y0, max(y1, y2))
+        j0 = max(int(math.ceil(xmin - 0.5)), c0)
+        j1 = min(int(math.floor(xmax - 0.5)), c1)
+        i0 = max(int(math.ceil(ymin - 0.5)), r0)
+        i1 = min(int(math.floor(ymax - 0.5)), r1)
+        if j0 > j1 or i0 > i1:
+            continue
+        area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+        if not (abs(area) > 1e-14):  # degenerate or NaN
+            continue
+        # rows grow downwards: a triangle facing the camera has area < 0 → front map
+        side = 0 if area < 0.0 else 1
+        z0 = sv[a, 2]
+        z1 = sv[b, 2]
+        z2 = sv[c, 2]
+        inv = 1.0 / area
+        # the reference rasteriser's span arithmetic starts from the unclipped bounds
+        jb0 = max(int(math.ceil(xmin - 0.5)), 0)
+        jb1 = min(int(math.floor(xmax - 0.5)), D.shape[1] - 1)
+        d0 = (y1 - y2) * inv
+        d1 = (y2 - y0) * inv
+        d2 = -(d0 + d1)
+        px0 = jb0 + 0.5
+        small = (jb1 - jb0) < 3
+        for i in range(i0, i1 + 1):
+            py = i + 0.5
+            w0s = ((x1 - px0) * (y2 - py) - (x2 - px0) * (y1 - py)) * inv
+            w1s = ((x2 - px0) * (y0 - py) - (x0 - px0) * (y2 - py)) * inv
+            w2s = 1.0 - w0s - w1s
+            ja = jb0
+            jb = jb1
+            if not small:
+                lo = 0.0
+                hi = float(jb1 - jb0)
+                if d0 > 0.0:
+                    lo = max(lo, (-eps - w0s) / d0)
+                elif d0 < 0.0:
+                    hi = min(hi, (-eps - w0s) / d0)
+                elif w0s < -eps:
+                    continue
+                if d1 > 0.0:
+                    lo = max(lo, (-eps - w1s) / d1)
+                elif d1 < 0.0:
+                    hi = min(hi, (-eps - w1s) / d1)
+                elif w1s < -eps:
+                    continue
+                if d2 > 0.0:
+                    lo = max(lo, (-eps - w2s) / d2)
+                elif d2 < 0.0:
+                    hi = min(hi, (-eps - w2s) / d2)
+                elif w2s < -eps:
+                    continue
+                if lo > hi:
+                    continue
+                ja = max(jb0 + int(math.ceil(lo - 1e-7)), jb0)
+                jb = min(jb0 + int(math.floor(hi + 1e-7)), jb1)
+            ja = max(ja, j0)
+            jb = min(jb, j1)
+            for j in range(ja, jb + 1):
+                dj = j - jb0
+                w0 = w0s + d0 * dj
+                w1 = w1s + d1 * dj
+                w2 = 1.0 - w0 - w1
+                if w0 < -eps or w1 < -eps or w2 < -eps:
+                    continue
+                z = w0 * z0 + w1 * z1 + w2 * z2
+                if tri[slot, side, i, j] >= 0:
+                    if side == 1:
+                        if z >= D[i, j, slot, 1]:
+                            continue
+                    elif z <= D[i, j, slot, 0]:
+                        continue
+                D[i, j, slot, side] = z
+                tri[slot, side, i, j] = t
+                for q in range(6):
+                    A[i, j, side, slot, q] = w0 * attrs[a, q] + w1 * attrs[b, q] + \
+                        w2 * attrs[c, q]
+
+
+@numba.njit(cache=True, _nrt=False)
+def map_region(m, lo, hi, pad, w, h, out):
+    """``out`` = (r0, r1, c0, c1): the rows and columns of the maps' pixels that look-ups of
+    points in the box [lo − pad, hi + pad] can read (their 2×2 blocks), clipped to the grid
+    of w × h pixels; (0, 0, 0, 0) off the grid."""
+    xmin = np.inf
+    xmax = -np.inf
+    ymin = np.inf
+    ymax = -np.inf
+    for a in range(2):
+        x = lo[0] - pad if a == 0 else hi[0] + pad
+        for b in range(2):
+            y = lo[1] - pad if b == 0 else hi[1] + pad
+            for c in range(2):
+                z = lo[2] - pad if c == 0 else hi[2] + pad
+                sx = m[0, 0] * x + m[0, 1] * y + m[0, 2] * z + m[0, 3]
+                sy = m[1, 0] * x + m[1, 1] * y + m[1, 2] * z + m[1, 3]
+                xmin = min(xmin, sx)
+                xmax = max(xmax, sx)
+                ymin = min(ymin, sy)
+                ymax = max(ymax, sy)
+    if not (np.isfinite(xmin) and np.isfinite(xmax) and np.isfinite(ymin) and
+            np.isfinite(ymax)):
+        out[0] = 0
+        out[1] = h - 1
+        out[2] = 0
+        out[3] = w - 1
+        return
+    c0 = max(int(math.floor(min(max(xmin, -1e9), 1e9) - 0.5)), 0)
+    c1 = min(int(math.floor(min(max(xmax, -1e9), 1e9) - 0.5)) + 1, w - 1)
+    r0 = max(int(math.floor(min(max(ymin, -1e9), 1e9) - 0.5)), 0)
+    r1 = min(int(math.floor(min(max(ymax, -1e9), 1e9) - 0.5)) + 1, h - 1)
+    if c0 > c1 or r0 > r1:
+        c0 = 0
+        c1 = 0
+        r0 = 0
+        r1 = 0
+    out[0] = r0
+    out[1] = r1
+    out[2] = c0
+    out[3] = c1
