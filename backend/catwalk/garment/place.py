@@ -10,7 +10,9 @@ seen from outside the garment, +v up):
 
 - torso / legs, side ``front``: the panel faces +Z, +u → +X (the body's left); ``back``: faces
   −Z, +u → −X; ``left``: faces +X, +u → −Z; ``right``: faces −X, +u → +Z;
-- arms: +v runs from the wrist to the shoulder along the arm, the panel faces outwards
+- arms: the axis runs through ``arm_root_<side>`` (the shoulder joint, when the body has a rig;
+  else the anchor) towards the elbow (else the wrist) — the upper arm, where a sleeve's cap
+  is; +v runs from the wrist to the shoulder along it, the panel faces outwards
   (±X; away from the armpit when the body has ``armpit_left``/``armpit_right``, so that a
   sleeve's underarm seam meets the bodice's side seam) and +u points to the front on the right
   arm, to the back on the left arm (a sleeve drafted with its front on +u is a right sleeve;
@@ -145,8 +147,10 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
         if part in ("left_arm", "right_arm"):
             side = "left" if part == "left_arm" else "right"
             sign = 1.0 if side == "left" else -1.0
-            wrist = landmarks.get(f"wrist_{side}")
-            d = (anchor - np.asarray(wrist, float)) if wrist is not None \
+            root = landmarks.get(f"arm_root_{side}")
+            centre = anchor if root is None else np.asarray(root, float)
+            below = landmarks.get(f"elbow_{side}", landmarks.get(f"wrist_{side}"))
+            d = (centre - np.asarray(below, float)) if below is not None \
                 else np.array([-0.3 * sign, 1.0, 0.0])   # arms hanging a little apart
             d = d / np.linalg.norm(d)
             n = np.array([sign, 0.0, 0.0]) - sign * d[0] * d
@@ -159,7 +163,6 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
             n /= np.linalg.norm(n)
             e_v = d
             e_u = np.cross(e_v, n)
-            centre = anchor
             radius = (hi[0] - lo[0]) / (2 * math.pi) if pl.wrap else ARM_RADIUS + pl.distance
         else:
             e_u, e_v, n = _frame(part, pl.side)

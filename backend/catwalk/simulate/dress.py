@@ -87,6 +87,22 @@ def advance(solver: Solver, model: ClothModel, state: State, collider, duration:
         solver.after_collision(model, state, h)
 
 
+def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
+             rounds: int = 4) -> None:
+    """Move cloth that starts inside the body out of it (the body at its current pose), and
+    let the cloth around the pushed points follow (Provot's position correction with the
+    pushed points held) so no spring starts far over its limit; velocities end at zero."""
+    for r in range(rounds):
+        x0[:] = state.positions
+        held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
+        # the first rounds relax every spring (points pushed to opposite sides of a thin limb
+        # pull each other back); the last keeps the pushed points where the body put them
+        state.held = np.asarray(held, dtype=bool) if r == rounds - 1 else \
+            np.zeros(model.n_points, dtype=bool)
+        solver.after_collision(model, state, CHUNK, iterations=30)
+    state.velocities[:] = 0.0
+
+
 def collisions_for(move: float, settings: Settings) -> int:
     """Collider resolves per 1/30 s for a cloth/body that moved ``move`` metres in it."""
     n = math.ceil(move / settings.max_move) if move > 0 else 1
@@ -153,17 +169,15 @@ def dress(body, garment, size: str | None = None, fabric=None,
                              thickness=settings.thickness, friction=0.0)
     collider.update(verts, np.zeros_like(verts))
     state = State.from_model(model)
-    x0 = state.positions.copy()
-    for _ in range(3):
-        collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
-    state.velocities[:] = 0.0
-
-    # --- sew ---
     m_med = float(np.median(model.mass))
     w = settings.sew_omega
     solver = Solver(model, settings.method, gravity=(0.0, 0.0, 0.0), sewing=True,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med, extra_air=2.0,
                     held_fixed=False)
+    x0 = state.positions.copy()
+    push_out(solver, model, state, collider, x0)
+
+    # --- sew ---
     chunks = max(1, round(settings.sew_seconds / CHUNK))
     gaps = seam_gaps(model, state.positions)
     gap0 = float(gaps.max())
@@ -208,9 +222,8 @@ def dress(body, garment, size: str | None = None, fabric=None,
 
     solver = settle_solver(welded)
     x0 = st.positions.copy()
+    push_out(solver, welded, st, collider, x0)
     prev = st.positions.copy()
-    for _ in range(3):
-        collider.resolve(st.positions, st.velocities, x0, alpha=1.0)
     chunks = max(0, round(settings.settle_seconds / CHUNK))
     speed = float("inf")
     settled_chunks = 0

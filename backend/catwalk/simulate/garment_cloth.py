@@ -53,6 +53,22 @@ def body_girths(body) -> dict:
     return out
 
 
+def placement_landmarks(body) -> dict:
+    """The body's landmarks plus, for a rigged body, ``arm_root_left``/``arm_root_right``:
+    the shoulder joints (the axis of a sleeve starts there, not at the shoulder's surface)."""
+    lm = dict(body.landmarks)
+    sk = body.skeleton
+    if sk is not None:
+        world = sk.rest_world
+        for side, names in (("left", ("upperarm_l", "upperarm.L", "upper_arm.L")),
+                            ("right", ("upperarm_r", "upperarm.R", "upper_arm.R"))):
+            for n in names:
+                if n in sk.names:
+                    lm[f"arm_root_{side}"] = world[sk.names.index(n)][:3, 3].tolist()
+                    break
+    return lm
+
+
 def garment_cloth(garment: Garment, body, size: str | None = None, fabric=None,
                   h: float = 0.015, distance: float | None = None) -> GarmentCloth:
     """Cut ``garment`` in ``size``, place it round ``body`` and build its cloth at spacing h."""
@@ -67,7 +83,7 @@ def garment_cloth(garment: Garment, body, size: str | None = None, fabric=None,
         garment = replace(garment, panels=[
             replace(p, placement=replace(p.placement, distance=distance))
             if p.placement is not None else p for p in garment.panels])
-    placements = place_panels(garment, body.landmarks, size, body_girths(body))
+    placements = place_panels(garment, placement_landmarks(body), size, body_girths(body))
     panels = [Panel(pc.flat.points, name=pc.name, placement=pl.to_world)
               for pc, pl in zip(pieces, placements, strict=True)]
     model = build_cloth(panels, [Seam(*s) for s in seams], fabric=fab, h=h)
