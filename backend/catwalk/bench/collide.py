@@ -233,14 +233,11 @@ def depth_map_figure(body_kind="makehuman", frame=8, size=256):
     return np.asarray(sheet), caption
 
 
-def figure10_figure(size=(360, 540)):
-    """The paper's figure 10 on the mannequin: a front panel 6 mm over the torso, the right
-    forearm across it; the panel after one ``resolve`` in ``image`` mode (shoved out in front
-    of the arm) and in ``hybrid`` mode (left alone), seen from the side. Returns
-    (image, caption)."""
+def figure10_scene():
+    """The paper's figure-10 case on the capsule mannequin: (mannequin, posed vertices, front
+    panel points 6 mm over the torso, panel triangles). The right forearm crosses the torso."""
     from catwalk.collide.collider import face_parts
     from catwalk.collide.shapes import Mannequin, figure10_pose
-    from catwalk.render.preview import render_meshes
     from catwalk.render.raster import ortho_view, rasterize
 
     m = Mannequin(1.0)
@@ -262,6 +259,34 @@ def figure10_figure(size=(360, 540)):
     a, b, c, d = idx[:-1, :-1], idx[:-1, 1:], idx[1:, :-1], idx[1:, 1:]
     quad = (a >= 0) & (b >= 0) & (c >= 0) & (d >= 0)
     panel_f = np.r_[np.c_[a[quad], c[quad], b[quad]], np.c_[b[quad], c[quad], d[quad]]]
+    return m, v, pts, panel_f
+
+
+def figure10_displacement() -> dict:
+    """How far one ``resolve`` moves the figure-10 panel, per mode (mm): image mode shoves the
+    panel under the forearm out in front of it, hybrid leaves it."""
+    m, v, pts, _ = figure10_scene()
+    out = {}
+    for mode in ("image", "hybrid", "object"):
+        col = make_collider(mode, m.faces, m.parts)
+        col.update(v)
+        p = pts.copy()
+        col.resolve(p, np.zeros_like(p), pts.copy())
+        d = np.linalg.norm(p - pts, axis=1)
+        out[mode] = {"max_displacement_mm": round(1e3 * float(d.max()), 2),
+                     "points_moved_over_1cm": int((d > 0.01).sum()), "panel_points": len(pts)}
+    return out
+
+
+def figure10_figure(size=(360, 540)):
+    """The paper's figure 10 on the mannequin: a front panel 6 mm over the torso, the right
+    forearm across it; the panel after one ``resolve`` in ``image`` mode (shoved out in front
+    of the arm) and in ``hybrid`` mode (left alone), seen from the side. Returns
+    (image, caption)."""
+    from catwalk.render.preview import render_meshes
+
+    m, v, pts, panel_f = figure10_scene()
+    lo, hi = v.min(axis=0), v.max(axis=0)
     colours = np.array([[215, 185, 160], [120, 140, 200], [205, 90, 80], [120, 160, 120],
                         [120, 160, 120]], np.uint8)[m.parts]
     views = []

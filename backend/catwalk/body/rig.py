@@ -237,3 +237,17 @@ def rigged_base_body(gender: float = 0.5, rig: str = "game_engine"):
     return Body(vertices=full[:BODY_VERTEX_COUNT].copy(), faces=load_base_mesh().body_triangles,
                 parts=parts, skeleton=skeleton, skin_joints=joints, skin_weights=weights,
                 meta={"vertical_shift": float(shift), "rig": rig, "gender_slider": gender})
+
+
+def measured_base_body(gender: float = 0.0, rig: str = "game_engine"):
+    """:func:`rigged_base_body` with its landmarks and measurements (≈ 1 s): a body that
+    garments can be placed on, for tests and benchmarks."""
+    from catwalk.body.measure import measure_body
+
+    body = rigged_base_body(gender, rig)
+    sex = "female" if gender < 0.5 else "male"
+    m = measure_body(body.vertices, body.faces, sex=sex)
+    body.landmarks = {k: [float(x) for x in v] for k, v in m["landmarks"].items()}
+    body.meta["measured"] = {k: float(v) for k, v in m.items() if isinstance(v, (int, float))}
+    body.meta["sex"] = sex
+    return body

@@ -30,6 +30,12 @@ MAX_CORRECTION_SPEED = 2.0
 # (a trouser inseam, a sleeve cap) approach at a bounded speed instead of being flung together.
 SEAM_REACH = 0.01
 
+# A stretch/shear spring's elastic force stops growing beyond this strain (its energy grows
+# linearly): the strain limit keeps springs below τ ≤ 0.1 anyway, and a spring that something
+# else stretched far (the collider pushing cloth out of a foot, a weld) would otherwise ring at
+# its natural frequency with an amplitude of that stretch: tens of m/s with a stiff fabric.
+STRAIN_FORCE_CAP = 0.25
+
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _compressed(e, rest, compress):
@@ -80,8 +86,11 @@ def accumulate_forces(x, v, mass, sa, sb, rest, k, c, n_lim, compress, gravity, 
         dz *= inv
         rv = (v[b, 0] - v[a, 0]) * dx + (v[b, 1] - v[a, 1]) * dy + (v[b, 2] - v[a, 2]) * dz
         e = ll - rest[s]
-        if e < 0.0 and s < n_lim:
-            fs = k[s] * _compressed(e, rest[s], compress) + c[s] * rv
+        if s < n_lim:
+            if e < 0.0:
+                fs = k[s] * _compressed(e, rest[s], compress) + c[s] * rv
+            else:
+                fs = k[s] * min(e, STRAIN_FORCE_CAP * rest[s]) + c[s] * rv
         else:
             fs = k[s] * e + c[s] * rv
         f[a, 0] += fs * dx
@@ -513,8 +522,11 @@ def spring_energy(x, sa, sb, rest, k, n_lim, compress):
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         d = np.sqrt(dx * dx + dy * dy + dz * dz) - rest[s]
+        cap = STRAIN_FORCE_CAP * rest[s]
         if d < 0.0 and s < n_lim:
             e += k[s] * _compressed_energy(d, rest[s], compress)
+        elif d > cap and s < n_lim:
+            e += k[s] * cap * (d - 0.5 * cap)
         else:
             e += 0.5 * k[s] * d * d
     return e

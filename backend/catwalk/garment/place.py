@@ -12,7 +12,8 @@ seen from outside the garment, +v up):
   −Z, +u → −X; ``left``: faces +X, +u → −Z; ``right``: faces −X, +u → +Z;
 - arms: the axis runs through ``arm_root_<side>`` (the shoulder joint, when the body has a rig;
   else the anchor) towards the elbow (else the wrist) — the upper arm, where a sleeve's cap
-  is; +v runs from the wrist to the shoulder along it, the panel faces outwards
+  is — and, wrapped, bends at ``elbow_<side>`` towards ``wrist_<side>`` so a long sleeve
+  follows the forearm; +v runs from the wrist to the shoulder along it, the panel faces outwards
   (±X; away from the armpit when the body has ``armpit_left``/``armpit_right``, so that a
   sleeve's underarm seam meets the bodice's side seam) and +u points to the front on the right
   arm, to the back on the left arm (a sleeve drafted with its front on +u is a right sleeve;
@@ -188,6 +189,12 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
         cyl = (centre + offset, d, float(radius)) if pl.wrap else None
         to_world = (_wrapped(a_uv, surface, e_u, e_v, n, cyl, pl.rotation) if cyl
                     else _flat(m, a_uv, pl.rotation))
+        if cyl and part in ("left_arm", "right_arm"):
+            elbow = landmarks.get(f"elbow_{side}")
+            wrist = landmarks.get(f"wrist_{side}")
+            if elbow is not None and wrist is not None:   # follow the bent arm
+                axis = np.array([foot, elbow, wrist], float) + offset
+                to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation)
         out.append(PanelPlacement(piece.name, m, cyl, to_world))
     return out
 
@@ -204,6 +211,28 @@ def _flat(m: np.ndarray, a_uv: np.ndarray, degrees: float):
     def to_world(uv: np.ndarray) -> np.ndarray:
         uv = _rotate(np.asarray(uv, float), a_uv, degrees)
         return uv @ m[:, :2].T + m[:, 2]
+    return to_world
+
+
+def _wrapped_bent(a_uv, axis: np.ndarray, n: np.ndarray, radius: float, degrees: float):
+    """Wrap round a tube whose axis is a polyline (shoulder → elbow → wrist, extended at both
+    ends): the anchor row sits at ``axis[0]``, +v runs back up the axis, arc length along u
+    is kept, and each segment carries the outward direction ``n`` made perpendicular to it."""
+    seg = np.diff(axis, axis=0)
+    length = np.linalg.norm(seg, axis=1)
+    t = seg / length[:, None]
+    starts = np.concatenate([[0.0], np.cumsum(length)[:-1]])
+    nk = n[None] - np.sum(n[None] * t, axis=1)[:, None] * t
+    nk /= np.linalg.norm(nk, axis=1)[:, None]
+    uk = np.cross(-t, nk)
+
+    def to_world(uv: np.ndarray) -> np.ndarray:
+        uv = _rotate(np.asarray(uv, float), a_uv, degrees)
+        s = a_uv[1] - uv[:, 1]                     # distance down the arm from the anchor row
+        k = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(t) - 1)
+        on = axis[k] + (s - starts[k])[:, None] * t[k]
+        phi = (uv[:, 0] - a_uv[0]) / radius
+        return on + radius * (np.sin(phi)[:, None] * uk[k] + np.cos(phi)[:, None] * nk[k])
     return to_world
 
 

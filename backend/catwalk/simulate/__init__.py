@@ -5,7 +5,7 @@ dressed garment following; both take a :class:`Settings` (presets ``fast``, ``ba
 ``accurate``), a ``progress(stage, i, total)`` callback and a ``cancel()`` check.
 """
 
-from catwalk.simulate.dress import Cancelled, Dressed, DressingError, dress
+from catwalk.simulate.dressing import Cancelled, Dressed, DressingError, dress
 from catwalk.simulate.settings import PRESETS, Settings, preset
 
 __all__ = ["Cancelled", "Dressed", "DressingError", "PRESETS", "Settings", "dress", "preset"]

@@ -9,9 +9,9 @@ import numpy as np
 
 from catwalk.body.types import Motion
 from catwalk.export.garment import GarmentFrames
-from catwalk.simulate.dress import Dressed, dress
+from catwalk.simulate.dressing import Dressed, dress
 from catwalk.simulate.settings import PRESETS, Settings
-from catwalk.simulate.walk import Walked, walk
+from catwalk.simulate.walking import Walked, walk
 
 
 @dataclass

@@ -45,7 +45,7 @@ class Settings:
     weld_gap: float = 0.002
     weld_reach: float = 0.01
     max_open_gap: float = 0.03
-    settle_seconds: float = 1.5
+    settle_seconds: float = 2.0
     settle_speed: float = 0.05
     blend_seconds: float = 0.5
 
@@ -76,11 +76,11 @@ class Settings:
 
 PRESETS: dict[str, Settings] = {
     "fast": Settings(name="fast", h=0.025, map_size=128, max_move=0.01, min_collisions=10,
-                     sew_seconds=1.5, settle_seconds=0.8, blend_seconds=0.4),
+                     sew_seconds=1.5, settle_seconds=1.5, blend_seconds=0.4),
     "balanced": Settings(),
     "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
                          min_collisions=40, max_collisions=120, thickness=0.003,
-                         sew_seconds=3.0, settle_seconds=2.5, settle_speed=0.03),
+                         sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.03),
 }
 
 

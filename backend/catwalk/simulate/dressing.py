@@ -42,6 +42,7 @@ from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gap
 from catwalk.simulate.settings import PRESETS, Settings
 
 CHUNK = 1.0 / 30.0
+SETTLE_AIR = 3.0   # 1/s of extra air drag while the garment settles (terminal speed g/3)
 
 
 class Cancelled(CatwalkError):
@@ -216,7 +217,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
     collider.friction = friction
 
     def settle_solver(m):
-        return Solver(m, settings.method, extra_air=1.0, held_fixed=False,
+        return Solver(m, settings.method, extra_air=SETTLE_AIR, held_fixed=False,
                       sewing=len(m.seam_a) > 0, seam_stiffness=w * w * m_med,
                       seam_damping=2.0 * w * m_med)
 
