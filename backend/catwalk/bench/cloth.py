@@ -7,6 +7,12 @@ settled for ``--settle`` seconds, then ``--steps`` steps are timed in kernel cal
 (forces + semi-implicit Euler + the method; single thread); the fastest call gives µs/step, so
 that other load on the machine spoils the figure less. ``max_strain`` is the largest strain of
 a stretch/shear spring after the timed steps (the limit is τ of the fabric).
+
+``--integrators xpbd`` adds ``"integrators"`` to the JSON: the paper's explicit scheme with the
+ordered pass and the XPBD integrator (``Solver(integrator="xpbd")``, step ``--xpbd-dt``,
+``--xpbd-iterations`` sweeps), each settled and timed the same way, with its time step, µs per
+step, µs per simulated millisecond (the fair comparison: XPBD takes larger steps) and max
+strain. Left out by default.
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ import time
 from catwalk.bench import cpu_model
 from catwalk.cloth.fabrics import get_fabric
 from catwalk.cloth.scenes import paper_size_cloth
-from catwalk.cloth.solver import METHODS, Solver, max_strain
+from catwalk.cloth.solver import INTEGRATORS, METHODS, Solver, max_strain
 from catwalk.errors import CatwalkError
 
 BLOCK = 100
@@ -34,13 +40,36 @@ def machine() -> str:
     return f"{cpu}, nproc {os.cpu_count()}{load}"
 
 
-def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None) -> dict:
+def _time(model, state, solver, steps, settle):
+    """Settle, then the fastest block of BLOCK steps: µs per step."""
+    solver.step(model, state, None, solver.dt_max)  # compile (or load the cache)
+    if settle > 0:
+        solver.run(model, state, settle)
+    # blocks of BLOCK steps, each one kernel call; the fastest block counts (the others
+    # were slowed by whatever else ran on the machine)
+    best = float("inf")
+    done = 0
+    while done < steps:
+        nb = min(BLOCK, steps - done)
+        t0 = time.perf_counter()
+        solver.step(model, state, None, solver.dt_max * nb)
+        best = min(best, (time.perf_counter() - t0) / nb)
+        done += nb
+    return best * 1e6
+
+
+def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None,
+        integrators=(), xpbd_dt=1e-3, xpbd_iterations=8) -> dict:
     fab = get_fabric(fabric)
     if steps < 1:
         raise CatwalkError("--steps must be at least 1")
     if settle < 0:
         raise CatwalkError("--settle must be ≥ 0 seconds")
     methods = list(METHODS) if methods is None else methods
+    for name in integrators:
+        if name not in INTEGRATORS:
+            raise CatwalkError(f"unknown integrator {name!r} (choose from "
+                               f"{', '.join(INTEGRATORS)})")
     model, state0 = paper_size_cloth(fab, h=h)
     out = {"points": model.n_points, "springs": model.n_springs, "methods": {}}
     extra = {"dt": None, "tau": fab.tau, "fabric": fab.id, "h": h}
@@ -48,27 +77,34 @@ def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None) -
         state = state0.copy()
         solver = Solver(model, name)
         extra["dt"] = solver.dt_max
-        solver.step(model, state, None, solver.dt_max)  # compile (or load the cache)
-        if settle > 0:
-            solver.run(model, state, settle)
-        # blocks of BLOCK steps, each one kernel call; the fastest block counts (the others
-        # were slowed by whatever else ran on the machine)
-        best = float("inf")
-        done = 0
-        while done < steps:
-            nb = min(BLOCK, steps - done)
-            t0 = time.perf_counter()
-            solver.step(model, state, None, solver.dt_max * nb)
-            best = min(best, (time.perf_counter() - t0) / nb)
-            done += nb
-        out["methods"][name] = {"us_per_step": best * 1e6,
+        us = _time(model, state, solver, steps, settle)
+        out["methods"][name] = {"us_per_step": us,
                                 "max_strain": max_strain(model, state.positions)}
+    if integrators:
+        out["integrators"] = {}
+        for name in ("explicit", *[i for i in integrators if i != "explicit"]):
+            state = state0.copy()
+            solver = Solver(model, "ordered", integrator=name, xpbd_dt=xpbd_dt,
+                            xpbd_iterations=xpbd_iterations)
+            us = _time(model, state, solver, steps, settle)
+            entry = {"dt": solver.dt_max, "us_per_step": us,
+                     "us_per_simulated_ms": us * 1e-3 / solver.dt_max,
+                     "max_strain": max_strain(model, state.positions)}
+            if name == "xpbd":
+                entry["iterations"] = xpbd_iterations
+            else:
+                entry["method"] = "ordered"
+            out["integrators"][name] = entry
     return out, extra
 
 
 def main(args) -> int:
+    if args.xpbd_iterations < 1 or not args.xpbd_dt > 0:
+        raise CatwalkError("--xpbd-dt must be > 0 and --xpbd-iterations ≥ 1")
     res, extra = run(args.fabric, args.h, args.steps, args.settle,
-                     args.methods.split(",") if args.methods else None)
+                     args.methods.split(",") if args.methods else None,
+                     tuple(args.integrators.split(",")) if args.integrators else (),
+                     args.xpbd_dt, args.xpbd_iterations)
     if args.json:
         print(json.dumps(res))
         return 0
@@ -79,6 +115,12 @@ def main(args) -> int:
     print(f"{'method':<10} {'us/step':>10} {'max strain':>11}")
     for name, r in res["methods"].items():
         print(f"{name:<10} {r['us_per_step']:>10.1f} {r['max_strain']:>11.4f}")
+    if "integrators" in res:
+        print(f"{'integrator':<10} {'dt us':>8} {'us/step':>10} {'us/sim ms':>10} "
+              f"{'max strain':>11}")
+        for name, r in res["integrators"].items():
+            print(f"{name:<10} {r['dt'] * 1e6:>8.1f} {r['us_per_step']:>10.1f} "
+                  f"{r['us_per_simulated_ms']:>10.1f} {r['max_strain']:>11.4f}")
     return 0
 
 
@@ -91,5 +133,9 @@ def register(bench) -> None:
     p.add_argument("--settle", type=float, default=1.0, help="seconds simulated before timing")
     p.add_argument("--methods", default="", help="comma-separated subset of "
                                                  + ",".join(METHODS))
+    p.add_argument("--integrators", default="",
+                   help="also compare integrators (explicit + ordered vs these): xpbd")
+    p.add_argument("--xpbd-dt", type=float, default=1e-3, help="XPBD time step, s")
+    p.add_argument("--xpbd-iterations", type=int, default=8, help="XPBD sweeps per step")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=main)

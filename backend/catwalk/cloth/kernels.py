@@ -2,7 +2,11 @@
 
 All kernels are single-threaded ``@numba.njit(cache=True)`` loops over flat arrays; the solver
 (:mod:`catwalk.cloth.solver`) calls :func:`run_steps` once per step (or once for many steps when
-no collider needs Python between them).
+no collider needs Python between them). Inside a step, positions and velocities are (3, n)
+arrays and the springs are grouped in runs of consecutive points, so that the force loop
+vectorises; the ordered pass visits only points near over-long springs. The results are those
+of the plain loops to the last bit (see the comment above :func:`spring_runs` and
+``tests/cloth/test_kernels.py``).
 """
 
 from __future__ import annotations
@@ -30,12 +34,6 @@ MAX_CORRECTION_SPEED = 2.0
 # (a trouser inseam, a sleeve cap) approach at a bounded speed instead of being flung together.
 SEAM_REACH = 0.01
 
-# A stretch/shear spring's elastic force stops growing beyond this strain (its energy grows
-# linearly): the strain limit keeps springs below τ ≤ 0.1 anyway, and a spring that something
-# else stretched far (the collider pushing cloth out of a foot, a weld) would otherwise ring at
-# its natural frequency with an amplitude of that stretch: tens of m/s with a stiff fabric.
-STRAIN_FORCE_CAP = 0.25
-
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def _compressed(e, rest, compress):
@@ -58,149 +56,313 @@ def _compressed_energy(e, rest, compress):
     return w0 + 0.5 * compress * (e * e - e0 * e0) - (1.0 - compress) * 0.5 * d * (e - e0)
 
 
-@numba.njit(cache=True, error_model="numpy")
-def accumulate_forces(x, v, mass, sa, sb, rest, k, c, n_lim, compress, gravity, air, seam_a,
-                      seam_b, seam_k, seam_c, f):
-    """f = Σ springs (eq. 2 + damping along the spring) + seams + m·g − air·m·v.
+# The step works on structure-of-arrays copies of positions and velocities (``X``, ``V``: (3, n),
+# one row per axis) so that the loops over springs and points vectorise; :func:`run_steps` copies
+# the caller's (n, 3) arrays in and out once per call.
+#
+# Springs are processed in *runs* (:func:`spring_runs`): storage-order springs ``s0 … s0+L−1``
+# that join points ``a0+t`` and ``b0+t`` (t < L). On Provot's grid a row of stretch, shear or
+# bend springs is one run, so every load is contiguous; an irregular outline spring is a run of
+# length 1. Runs keep the springs' storage order and each point receives its spring forces in
+# that order, with no fused multiply-add and no reassociation, so that the results are the same
+# to the last bit as those of the plain loop over springs (the tests compare them).
 
-    Stretch and shear springs (the first ``n_lim``) push back ``compress`` times as hard as they
-    pull: woven and knitted fabrics buckle under almost no in-plane compression."""
-    n = x.shape[0]
+#: longest run (springs) a force call handles at once; longer runs are split (small buffers)
+RUN_CHUNK = 256
+
+
+def spring_runs(sa: np.ndarray, sb: np.ndarray, chunk: int = RUN_CHUNK) -> np.ndarray:
+    """Runs of springs, in storage order: (R, 4) int64 rows ``(s0, a0, b0, L)`` meaning that
+    springs ``s0 … s0+L−1`` join points ``a0+t`` and ``b0+t``; at most ``chunk`` long."""
+    sa = np.asarray(sa, dtype=np.int64)
+    sb = np.asarray(sb, dtype=np.int64)
+    if len(sa) == 0:
+        return np.zeros((0, 4), dtype=np.int64)
+    brk = np.ones(len(sa), dtype=bool)
+    brk[1:] = (sa[1:] != sa[:-1] + 1) | (sb[1:] != sb[:-1] + 1)
+    starts = np.flatnonzero(brk)
+    lens = np.diff(np.append(starts, len(sa)))
+    rows = [(s0 + o, sa[s0 + o], sb[s0 + o], min(chunk, n - o))
+            for s0, n in zip(starts.tolist(), lens.tolist(), strict=True)
+            for o in range(0, n, chunk)]
+    return np.array(rows, dtype=np.int64).reshape(-1, 4)
+
+
+def model_runs(sa: np.ndarray, sb: np.ndarray, n_lim: int) -> tuple[np.ndarray, int]:
+    """The run table of a model's springs (stretch/shear runs first, then bend; a run never
+    crosses ``n_lim``) and the number of stretch/shear runs."""
+    lim = spring_runs(sa[:n_lim], sb[:n_lim])
+    bend = spring_runs(sa[n_lim:], sb[n_lim:])
+    bend[:, 0] += n_lim
+    return np.ascontiguousarray(np.vstack([lim, bend])), len(lim)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def to_soa(x, X):
+    """X[q, i] = x[i, q]."""
+    for i in range(x.shape[0]):
+        X[0, i] = x[i, 0]
+        X[1, i] = x[i, 1]
+        X[2, i] = x[i, 2]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def from_soa(X, x):
+    """x[i, q] = X[q, i]."""
+    for i in range(x.shape[0]):
+        x[i, 0] = X[0, i]
+        x[i, 1] = X[1, i]
+        x[i, 2] = X[2, i]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _spring_force(dx, dy, dz, dvx, dvy, dvz, r, kk, cc, comp, compress):
+    """Force on the a end of a spring from a to b (dx = x_b − x_a, dv = v_b − v_a): eq. 2 plus
+    damping along the spring; ``comp``: a stretch/shear spring (softer under compression)."""
+    ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+    inv = 1.0 / max(ll, 1e-12)
+    dx *= inv
+    dy *= inv
+    dz *= inv
+    rv = dvx * dx + dvy * dy + dvz * dz
+    e = ll - r
+    # _compressed(e, r, compress), written out so that it vectorises
+    d = SOFT_BAND * r
+    ec = e + (1.0 - compress) * e * e / (2.0 * d) if e > -d else \
+        compress * e - (1.0 - compress) * 0.5 * d
+    ee = ec if (comp and e < 0.0) else e
+    fs = kk * ee + cc * rv
+    fs = 0.0 if ll < 1e-12 else fs  # (a NaN stays NaN: it must be detected)
+    return fs * dx, fs * dy, fs * dz
+
+
+@numba.njit(cache=True, error_model="numpy")
+def accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air, seam_a,
+                      seam_b, seam_k, seam_c, F):
+    """F = Σ springs (eq. 2 + damping along the spring) + seams + m·g − air·m·v, on (3, n) arrays.
+
+    ``runs``: the springs in runs (:func:`spring_runs`); the first ``n_runs_lim`` runs are the
+    stretch/shear springs, which push back ``compress`` times as hard as they pull: woven and
+    knitted fabrics buckle under almost no in-plane compression."""
+    n = X.shape[1]
+    x0 = X[0]
+    x1 = X[1]
+    x2 = X[2]
+    v0 = V[0]
+    v1 = V[1]
+    v2 = V[2]
+    f0 = F[0]
+    f1 = F[1]
+    f2 = F[2]
+    g0 = gravity[0]
+    g1 = gravity[1]
+    g2 = gravity[2]
     for i in range(n):
         m = mass[i]
-        f[i, 0] = m * (gravity[0] - air * v[i, 0])
-        f[i, 1] = m * (gravity[1] - air * v[i, 1])
-        f[i, 2] = m * (gravity[2] - air * v[i, 2])
-    for s in range(sa.shape[0]):
-        a = sa[s]
-        b = sb[s]
-        dx = x[b, 0] - x[a, 0]
-        dy = x[b, 1] - x[a, 1]
-        dz = x[b, 2] - x[a, 2]
-        ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-        if ll < 1e-12:
+        f0[i] = m * (g0 - air * v0[i])
+        f1[i] = m * (g1 - air * v1[i])
+        f2[i] = m * (g2 - air * v2[i])
+    maxl = 1
+    for q in range(runs.shape[0]):
+        maxl = max(maxl, runs[q, 3])
+    b0 = np.empty(maxl)
+    b1 = np.empty(maxl)
+    b2 = np.empty(maxl)
+    for q in range(runs.shape[0]):
+        # max(…, 0): tells the compiler that the indices are not negative (no wrap-around), so
+        # that the loops below vectorise
+        s0 = max(runs[q, 0], 0)
+        a0 = max(runs[q, 1], 0)
+        c0 = max(runs[q, 2], 0)
+        nl = runs[q, 3]
+        comp = q < n_runs_lim
+        if nl == 1:  # an irregular (outline) spring: no loop set-up
+            fx, fy, fz = _spring_force(x0[c0] - x0[a0], x1[c0] - x1[a0], x2[c0] - x2[a0],
+                                       v0[c0] - v0[a0], v1[c0] - v1[a0], v2[c0] - v2[a0],
+                                       rest[s0], k[s0], c[s0], comp, compress)
+            f0[a0] += fx
+            f1[a0] += fy
+            f2[a0] += fz
+            f0[c0] -= fx
+            f1[c0] -= fy
+            f2[c0] -= fz
             continue
-        inv = 1.0 / ll
-        dx *= inv
-        dy *= inv
-        dz *= inv
-        rv = (v[b, 0] - v[a, 0]) * dx + (v[b, 1] - v[a, 1]) * dy + (v[b, 2] - v[a, 2]) * dz
-        e = ll - rest[s]
-        if s < n_lim:
-            if e < 0.0:
-                fs = k[s] * _compressed(e, rest[s], compress) + c[s] * rv
-            else:
-                fs = k[s] * min(e, STRAIN_FORCE_CAP * rest[s]) + c[s] * rv
+        for t in range(nl):
+            a = a0 + t
+            b = c0 + t
+            s = s0 + t
+            b0[t], b1[t], b2[t] = _spring_force(
+                x0[b] - x0[a], x1[b] - x1[a], x2[b] - x2[a], v0[b] - v0[a], v1[b] - v1[a],
+                v2[b] - v2[a], rest[s], k[s], c[s], comp, compress)
+        # scatter, one array at a time (vectorises: the a0+t are distinct within a run). A point
+        # that is the b end of spring t' and the a end of spring t of this run (a0+t = c0+t')
+        # gets them in storage order: b first when c0 > a0 (then t' < t), else a first. (x − y
+        # and x + (−1·y) are the same number.)
+        if c0 > a0:
+            p0, p1, g = c0, a0, -1.0
         else:
-            fs = k[s] * e + c[s] * rv
-        f[a, 0] += fs * dx
-        f[a, 1] += fs * dy
-        f[a, 2] += fs * dz
-        f[b, 0] -= fs * dx
-        f[b, 1] -= fs * dy
-        f[b, 2] -= fs * dz
+            p0, p1, g = a0, c0, 1.0
+        for t in range(nl):
+            f0[p0 + t] += g * b0[t]
+        for t in range(nl):
+            f1[p0 + t] += g * b1[t]
+        for t in range(nl):
+            f2[p0 + t] += g * b2[t]
+        for t in range(nl):
+            f0[p1 + t] -= g * b0[t]
+        for t in range(nl):
+            f1[p1 + t] -= g * b1[t]
+        for t in range(nl):
+            f2[p1 + t] -= g * b2[t]
     for s in range(seam_a.shape[0]):
         a = seam_a[s]
         b = seam_b[s]
-        gx = x[b, 0] - x[a, 0]
-        gy = x[b, 1] - x[a, 1]
-        gz = x[b, 2] - x[a, 2]
+        gx = X[0, b] - X[0, a]
+        gy = X[1, b] - X[1, a]
+        gz = X[2, b] - X[2, a]
         gl = np.sqrt(gx * gx + gy * gy + gz * gz)
         ks = seam_k if gl <= SEAM_REACH else seam_k * SEAM_REACH / gl
-        fx = ks * gx + seam_c * (v[b, 0] - v[a, 0])
-        fy = ks * gy + seam_c * (v[b, 1] - v[a, 1])
-        fz = ks * gz + seam_c * (v[b, 2] - v[a, 2])
-        f[a, 0] += fx
-        f[a, 1] += fy
-        f[a, 2] += fz
-        f[b, 0] -= fx
-        f[b, 1] -= fy
-        f[b, 2] -= fz
+        fx = ks * gx + seam_c * (V[0, b] - V[0, a])
+        fy = ks * gy + seam_c * (V[1, b] - V[1, a])
+        fz = ks * gz + seam_c * (V[2, b] - V[2, a])
+        F[0, a] += fx
+        F[1, a] += fy
+        F[2, a] += fz
+        F[0, b] -= fx
+        F[1, b] -= fy
+        F[2, b] -= fz
 
 
 @numba.njit(cache=True, error_model="numpy")
-def integrate_velocities(v, f, w_int, dt, vmax):
+def integrate_velocities(V, F, w_int, dt, vmax):
     """v += dt·f/m for free points (eq. 3); returns (status, index of the first bad point)."""
-    n = v.shape[0]
-    status = 0
-    bad = -1
+    n = V.shape[1]
+    v0 = V[0]
+    v1 = V[1]
+    v2 = V[2]
+    f0 = F[0]
+    f1 = F[1]
+    f2 = F[2]
     v2max = vmax * vmax
+    nbad = 0
     for i in range(n):
         wi = w_int[i]
-        if wi == 0.0:
-            continue
-        vx = v[i, 0] + dt * wi * f[i, 0]
-        vy = v[i, 1] + dt * wi * f[i, 1]
-        vz = v[i, 2] + dt * wi * f[i, 2]
+        c = dt * wi
+        vx = v0[i] + c * f0[i]
+        vy = v1[i] + c * f1[i]
+        vz = v2[i] + c * f2[i]
         s = vx * vx + vy * vy + vz * vz
-        if not (s <= v2max):  # catches NaN as well
-            if status == 0:
-                bad = i
-                status = 1 if s != s else 2
-        v[i, 0] = vx
-        v[i, 1] = vy
-        v[i, 2] = vz
-    return status, bad
+        free = wi != 0.0
+        nbad += free & (not (s <= v2max))  # catches NaN as well
+        v0[i] = vx if free else v0[i]
+        v1[i] = vy if free else v1[i]
+        v2[i] = vz if free else v2[i]
+    if nbad == 0:
+        return 0, -1
+    for i in range(n):
+        if w_int[i] != 0.0:
+            s = v0[i] * v0[i] + v1[i] * v1[i] + v2[i] * v2[i]
+            if not (s <= v2max):
+                return (1 if s != s else 2), i
+    return 0, -1
 
 
 @numba.njit(cache=True, error_model="numpy")
-def limit_unordered_velocity(x, v, w_lim, sa, sb, rest, n_lim, tau, dt):
-    """Vassilev et al. 2001: for each stretch/shear spring in storage order, change the end points'
-    velocities along the spring so that its length after the step is at most (1+τ)·rest; the
-    change is shared by inverse mass (pinned and held points take none)."""
-    inv_dt = 1.0 / dt
-    for s in range(n_lim):
-        a = sa[s]
-        b = sb[s]
-        wa = w_lim[a]
-        wb = w_lim[b]
-        wsum = wa + wb
-        if wsum == 0.0:
-            continue
-        dx = (x[b, 0] + dt * v[b, 0]) - (x[a, 0] + dt * v[a, 0])
-        dy = (x[b, 1] + dt * v[b, 1]) - (x[a, 1] + dt * v[a, 1])
-        dz = (x[b, 2] + dt * v[b, 2]) - (x[a, 2] + dt * v[a, 2])
-        ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-        lim = (1.0 + tau) * rest[s]
-        if ll <= lim:
-            continue
-        g = min(ll - lim, MAX_CORRECTION_SPEED * dt) * inv_dt / (ll * wsum)
-        v[a, 0] += wa * g * dx
-        v[a, 1] += wa * g * dy
-        v[a, 2] += wa * g * dz
-        v[b, 0] -= wb * g * dx
-        v[b, 1] -= wb * g * dy
-        v[b, 2] -= wb * g * dz
+def predict(X, V, dt, XP):
+    """XP = X + dt·V."""
+    for q in range(3):
+        x = X[q]
+        v = V[q]
+        xp = XP[q]
+        for i in range(x.shape[0]):
+            xp[i] = x[i] + dt * v[i]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord_spr, ord_oth,
-                           ord_cross, sweeps, react, r, share):
+def mark_overstretched(XP, runs, n_runs_lim, rest, tau, dirty):
+    """dirty[p] = 1 for both ends of every stretch/shear spring whose predicted length exceeds
+    (1+τ)·rest (with a margin of 1e-9, so that no spring the exact test in the ordered pass
+    would correct is missed), 0 for all other points."""
+    dirty[:] = 0
+    x0 = XP[0]
+    x1 = XP[1]
+    x2 = XP[2]
+    c = (1.0 + tau) * (1.0 + tau) * (1.0 - 1e-9)
+    maxl = 1
+    for q in range(n_runs_lim):
+        maxl = max(maxl, runs[q, 3])
+    over = np.empty(maxl, dtype=np.uint8)
+    for q in range(n_runs_lim):
+        s0 = max(runs[q, 0], 0)
+        a0 = max(runs[q, 1], 0)
+        c0 = max(runs[q, 2], 0)
+        nl = runs[q, 3]
+        if nl == 1:
+            dx = x0[c0] - x0[a0]
+            dy = x1[c0] - x1[a0]
+            dz = x2[c0] - x2[a0]
+            r = rest[s0]
+            if dx * dx + dy * dy + dz * dz > c * r * r:
+                dirty[a0] = 1
+                dirty[c0] = 1
+            continue
+        for t in range(nl):
+            a = a0 + t
+            b = c0 + t
+            dx = x0[b] - x0[a]
+            dy = x1[b] - x1[a]
+            dz = x2[b] - x2[a]
+            r = rest[s0 + t]
+            over[t] = dx * dx + dy * dy + dz * dz > c * r * r
+        for t in range(nl):
+            dirty[a0 + t] |= over[t]
+        for t in range(nl):
+            dirty[c0 + t] |= over[t]
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _mark_neighbours(p, adj_ptr, adj_other, dirty):
+    for j in range(adj_ptr[p], adj_ptr[p + 1]):
+        dirty[adj_other[j]] = 1
+
+
+@numba.njit(cache=True, error_model="numpy")
+def limit_ordered_velocity(XP, V, w_lim, dt, ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim,
+                           ord_lim2, pt_cross, sweeps, react, R, share, dirty, adj_ptr, adj_other,
+                           qbuf, dbuf):
     """The paper's pass: points in order from the high-tension centres outward; each point's
     velocity is changed along its springs to already-processed points (which are not moved
     again in this pass), so that none of those springs ends the step longer than (1+τ)·rest.
 
-    ``xp`` receives the predicted positions x + dt·v. A point with several such springs takes
-    the mean of their corrections, up to ``sweeps`` times (a point whose parents disagree — where
-    the fronts from two centres meet — settles on a compromise instead of being thrown back and
-    forth); with ``share``, what is still left over is then shared with the parents by inverse
-    mass. The opposite impulse, × ``react``, goes to each parent's velocity *after* the position
-    update (accumulated in ``r``), as Müller et al. 2012 do for follow-the-leader, so that
-    momentum is kept over steps while this step's positions satisfy the limit.
+    ``XP`` holds the predicted positions x + dt·v (:func:`predict`) and is kept up to date. A
+    point with several such springs takes the mean of their corrections, up to ``sweeps`` times
+    (a point whose parents disagree — where the fronts from two centres meet — settles on a
+    compromise instead of being thrown back and forth); with ``share``, what is still left over
+    is then shared with the parents by inverse mass. The opposite impulse, × ``react``, goes to
+    each parent's velocity *after* the position update (accumulated in ``R``), as Müller et al.
+    2012 do for follow-the-leader, so that momentum is kept over steps while this step's
+    positions satisfy the limit. ``ord_lim`` is (1+τ)·rest of each entry's spring and
+    ``ord_lim2`` a bound a little below its square (a squared length up to it is surely within
+    the limit); ``pt_cross`` marks the points with a spring across a cluster boundary
+    (``ord_cross``).
+
+    Only points marked in ``dirty`` are visited (:func:`mark_overstretched` marks the ends of
+    the springs over the limit; a point that moves here marks its neighbours): any other point
+    has no spring over the limit to a processed point and would be left as it is, so the result
+    is that of visiting every point.
     """
     inv_dt = 1.0 / dt
-    n = x.shape[0]
-    for i in range(n):
-        xp[i, 0] = x[i, 0] + dt * v[i, 0]
-        xp[i, 1] = x[i, 1] + dt * v[i, 1]
-        xp[i, 2] = x[i, 2] + dt * v[i, 2]
-    maxp = 1
-    for k in range(ord_pts.shape[0]):
-        maxp = max(maxp, ord_ptr[k + 1] - ord_ptr[k])
-    qbuf = np.empty(maxp, dtype=np.int64)
-    dbuf = np.empty((maxp, 3))
+    cap = MAX_CORRECTION_SPEED * dt
+    xp0 = XP[0]
+    xp1 = XP[1]
+    xp2 = XP[2]
+    v0 = V[0]
+    v1 = V[1]
+    v2 = V[2]
     for k in range(ord_pts.shape[0]):
         p = ord_pts[k]
+        if dirty[p] == 0:
+            continue
         wp = w_lim[p]
         if wp == 0.0:
             continue
@@ -208,10 +370,7 @@ def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord
         j1 = ord_ptr[k + 1]
         if j0 == j1:
             continue
-        has_cross = False
-        for j in range(j0, j1):
-            if ord_cross[j]:
-                has_cross = True
+        moved = False
         for _sw in range(sweeps):
             cnt = 0
             nr = 0
@@ -222,14 +381,17 @@ def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord
                 if ord_cross[j]:
                     continue
                 q = ord_oth[j]
-                dx = xp[p, 0] - xp[q, 0]
-                dy = xp[p, 1] - xp[q, 1]
-                dz = xp[p, 2] - xp[q, 2]
-                ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-                lim = (1.0 + tau) * rest[ord_spr[j]]
+                dx = xp0[p] - xp0[q]
+                dy = xp1[p] - xp1[q]
+                dz = xp2[p] - xp2[q]
+                l2 = dx * dx + dy * dy + dz * dz
+                if l2 <= ord_lim2[j]:  # surely within the limit: no square root needed
+                    continue
+                ll = np.sqrt(l2)
+                lim = ord_lim[j]
                 if ll <= lim:
                     continue
-                g = min(ll - lim, MAX_CORRECTION_SPEED * dt) / ll
+                g = min(ll - lim, cap) / ll
                 sx += g * dx
                 sy += g * dy
                 sz += g * dz
@@ -242,51 +404,86 @@ def limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr, ord
                     nr += 1
             if cnt == 0:
                 break
+            moved = True
             inv = 1.0 / cnt
-            xp[p, 0] -= sx * inv
-            xp[p, 1] -= sy * inv
-            xp[p, 2] -= sz * inv
-            v[p, 0] -= sx * inv * inv_dt
-            v[p, 1] -= sy * inv * inv_dt
-            v[p, 2] -= sz * inv * inv_dt
+            xp0[p] -= sx * inv
+            xp1[p] -= sy * inv
+            xp2[p] -= sz * inv
+            v0[p] -= sx * inv * inv_dt
+            v1[p] -= sy * inv * inv_dt
+            v2[p] -= sz * inv * inv_dt
             for t in range(nr):
                 q = qbuf[t]
                 gq = react * inv * inv_dt * w_lim[q] / wp
-                r[q, 0] += gq * dbuf[t, 0]
-                r[q, 1] += gq * dbuf[t, 1]
-                r[q, 2] += gq * dbuf[t, 2]
-        if share or has_cross:
+                R[0, q] += gq * dbuf[t, 0]
+                R[1, q] += gq * dbuf[t, 1]
+                R[2, q] += gq * dbuf[t, 2]
+        if share or pt_cross[k]:
             for j in range(j0, j1):
                 if not (share or ord_cross[j]):
                     continue
                 q = ord_oth[j]
                 wq = w_lim[q]
-                dx = xp[p, 0] - xp[q, 0]
-                dy = xp[p, 1] - xp[q, 1]
-                dz = xp[p, 2] - xp[q, 2]
+                dx = xp0[p] - xp0[q]
+                dy = xp1[p] - xp1[q]
+                dz = xp2[p] - xp2[q]
                 ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-                lim = (1.0 + tau) * rest[ord_spr[j]]
+                lim = ord_lim[j]
                 if ll <= lim:
                     continue
-                g = min(ll - lim, MAX_CORRECTION_SPEED * dt) / (ll * (wp + wq))
+                moved = True
+                g = min(ll - lim, cap) / (ll * (wp + wq))
                 gp = wp * g
                 gq = wq * g
-                xp[p, 0] -= gp * dx
-                xp[p, 1] -= gp * dy
-                xp[p, 2] -= gp * dz
-                v[p, 0] -= gp * dx * inv_dt
-                v[p, 1] -= gp * dy * inv_dt
-                v[p, 2] -= gp * dz * inv_dt
-                xp[q, 0] += gq * dx
-                xp[q, 1] += gq * dy
-                xp[q, 2] += gq * dz
-                v[q, 0] += gq * dx * inv_dt
-                v[q, 1] += gq * dy * inv_dt
-                v[q, 2] += gq * dz * inv_dt
+                xp0[p] -= gp * dx
+                xp1[p] -= gp * dy
+                xp2[p] -= gp * dz
+                v0[p] -= gp * dx * inv_dt
+                v1[p] -= gp * dy * inv_dt
+                v2[p] -= gp * dz * inv_dt
+                xp0[q] += gq * dx
+                xp1[q] += gq * dy
+                xp2[q] += gq * dz
+                v0[q] += gq * dx * inv_dt
+                v1[q] += gq * dy * inv_dt
+                v2[q] += gq * dz * inv_dt
+                _mark_neighbours(q, adj_ptr, adj_other, dirty)
+        if moved:
+            _mark_neighbours(p, adj_ptr, adj_other, dirty)
 
 
 @numba.njit(cache=True, error_model="numpy")
-def limit_provot_positions(x, v, w_lim, sa, sb, rest, n_lim, tau, dt, iterations):
+def limit_unordered_velocity(X, V, w_lim, sa, sb, rest, n_lim, tau, dt):
+    """Vassilev et al. 2001: for each stretch/shear spring in storage order, change the end points'
+    velocities along the spring so that its length after the step is at most (1+τ)·rest; the
+    change is shared by inverse mass (pinned and held points take none)."""
+    inv_dt = 1.0 / dt
+    for s in range(n_lim):
+        a = sa[s]
+        b = sb[s]
+        wa = w_lim[a]
+        wb = w_lim[b]
+        wsum = wa + wb
+        if wsum == 0.0:
+            continue
+        dx = (X[0, b] + dt * V[0, b]) - (X[0, a] + dt * V[0, a])
+        dy = (X[1, b] + dt * V[1, b]) - (X[1, a] + dt * V[1, a])
+        dz = (X[2, b] + dt * V[2, b]) - (X[2, a] + dt * V[2, a])
+        ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+        lim = (1.0 + tau) * rest[s]
+        if ll <= lim:
+            continue
+        g = min(ll - lim, MAX_CORRECTION_SPEED * dt) * inv_dt / (ll * wsum)
+        V[0, a] += wa * g * dx
+        V[1, a] += wa * g * dy
+        V[2, a] += wa * g * dz
+        V[0, b] -= wb * g * dx
+        V[1, b] -= wb * g * dy
+        V[2, b] -= wb * g * dz
+
+
+@numba.njit(cache=True, error_model="numpy")
+def limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, iterations):
     """Provot 1995: after the position update, move the end points of every over-long
     stretch/shear spring towards each other (shared by inverse mass), in storage order, repeated
     ``iterations`` times; the velocities take the same change / dt so that they stay consistent
@@ -302,9 +499,9 @@ def limit_provot_positions(x, v, w_lim, sa, sb, rest, n_lim, tau, dt, iterations
             wsum = wa + wb
             if wsum == 0.0:
                 continue
-            dx = x[b, 0] - x[a, 0]
-            dy = x[b, 1] - x[a, 1]
-            dz = x[b, 2] - x[a, 2]
+            dx = X[0, b] - X[0, a]
+            dy = X[1, b] - X[1, a]
+            dz = X[2, b] - X[2, a]
             ll = np.sqrt(dx * dx + dy * dy + dz * dz)
             lim = (1.0 + tau) * rest[s]
             if ll <= lim:
@@ -313,67 +510,264 @@ def limit_provot_positions(x, v, w_lim, sa, sb, rest, n_lim, tau, dt, iterations
             g = (ll - lim) / (ll * wsum)
             ga = wa * g
             gb = wb * g
-            x[a, 0] += ga * dx
-            x[a, 1] += ga * dy
-            x[a, 2] += ga * dz
-            x[b, 0] -= gb * dx
-            x[b, 1] -= gb * dy
-            x[b, 2] -= gb * dz
-            v[a, 0] += ga * dx * inv_dt
-            v[a, 1] += ga * dy * inv_dt
-            v[a, 2] += ga * dz * inv_dt
-            v[b, 0] -= gb * dx * inv_dt
-            v[b, 1] -= gb * dy * inv_dt
-            v[b, 2] -= gb * dz * inv_dt
+            X[0, a] += ga * dx
+            X[1, a] += ga * dy
+            X[2, a] += ga * dz
+            X[0, b] -= gb * dx
+            X[1, b] -= gb * dy
+            X[2, b] -= gb * dz
+            V[0, a] += ga * dx * inv_dt
+            V[1, a] += ga * dy * inv_dt
+            V[2, a] += ga * dz * inv_dt
+            V[0, b] -= gb * dx * inv_dt
+            V[1, b] -= gb * dy * inv_dt
+            V[2, b] -= gb * dz * inv_dt
         if not changed:
             break
 
 
 @numba.njit(cache=True, error_model="numpy")
-def run_steps(x, v, xprev, f, mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, compress, gravity,
-              air,
-              seam_a, seam_b, seam_k, seam_c, dt, nsteps, method, tau, ord_pts, ord_ptr,
-              ord_spr, ord_oth, ord_cross, sweeps, react, r, xp, share, passes, provot_iterations,
-              vmax, out_bad):
+def advance_positions(X, V, R, dt, use_r, XPREV):
+    """XPREV = X; X += dt·V; then, with ``use_r``, V += R (the ordered pass's reactions)."""
+    for q in range(3):
+        x = X[q]
+        v = V[q]
+        r = R[q]
+        xprev = XPREV[q]
+        if use_r:
+            for i in range(x.shape[0]):
+                xprev[i] = x[i]
+                x[i] += dt * v[i]
+                v[i] += r[i]
+        else:
+            for i in range(x.shape[0]):
+                xprev[i] = x[i]
+                x[i] += dt * v[i]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _first_nonfinite(X):
+    """Index of the first point with a non-finite coordinate, or −1."""
+    n = X.shape[1]
+    bad = 0
+    for q in range(3):
+        x = X[q]
+        for i in range(n):
+            bad += not np.isfinite(x[i])
+    if bad == 0:
+        return -1
+    for i in range(n):
+        if not (np.isfinite(X[0, i]) and np.isfinite(X[1, i]) and np.isfinite(X[2, i])):
+            return i
+    return -1
+
+
+@numba.njit(cache=True, error_model="numpy")
+def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa, sb, rest, k, c,
+              n_lim, runs, n_runs_lim, compress, gravity, air, seam_a, seam_b, seam_k, seam_c, dt,
+              nsteps, method, tau, ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2,
+              pt_cross, adj_ptr, adj_other, sweeps, react, share, passes, provot_iterations, vmax,
+              out_bad):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
 
-    Returns a status (0 ok, 1 non-finite, 2 a speed above ``vmax``) and writes the step and the
-    point where it happened to ``out_bad``; on a bad status it stops before moving positions.
+    ``x``, ``v``, ``xprev`` are the caller's (n, 3) arrays, copied into the (3, n) work arrays
+    ``X``, ``V``, ``XPREV`` and back; ``XP``, ``F``, ``R``, ``dirty`` are scratch. Returns a
+    status (0 ok, 1 non-finite, 2 a speed above ``vmax``) and writes the step and the point
+    where it happened to ``out_bad``; on a bad status it stops before moving positions.
     """
-    n = x.shape[0]
+    to_soa(x, X)
+    to_soa(v, V)
+    maxp = 1
+    for o in range(ord_pts.shape[0]):
+        maxp = max(maxp, ord_ptr[o + 1] - ord_ptr[o])
+    qbuf = np.empty(maxp, dtype=np.int64)
+    dbuf = np.empty((maxp, 3))
+    status = STATUS_OK
+    moved = False
     for step in range(nsteps):
-        accumulate_forces(x, v, mass, sa, sb, rest, k, c, n_lim, compress, gravity, air, seam_a,
-                          seam_b, seam_k, seam_c, f)
-        status, bad = integrate_velocities(v, f, w_int, dt, vmax)
-        if status != 0:
+        accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air,
+                          seam_a, seam_b, seam_k, seam_c, F)
+        st, bad = integrate_velocities(V, F, w_int, dt, vmax)
+        if st != 0:
             out_bad[0] = step
             out_bad[1] = bad
-            return status
+            status = st
+            break
         if method == METHOD_ORDERED:
             if react > 0.0:
-                r[:, :] = 0.0
+                R[:, :] = 0.0
             for _pass in range(passes):
-                limit_ordered_velocity(x, v, xp, w_lim, rest, tau, dt, ord_pts, ord_ptr,
-                                       ord_spr, ord_oth, ord_cross, sweeps, react, r, share)
+                predict(X, V, dt, XP)
+                mark_overstretched(XP, runs, n_runs_lim, rest, tau, dirty)
+                limit_ordered_velocity(XP, V, w_lim, dt, ord_pts, ord_ptr, ord_oth, ord_cross,
+                                       ord_lim, ord_lim2, pt_cross, sweeps, react, R, share,
+                                       dirty, adj_ptr, adj_other, qbuf, dbuf)
         elif method == METHOD_VASSILEV:
-            limit_unordered_velocity(x, v, w_lim, sa, sb, rest, n_lim, tau, dt)
+            limit_unordered_velocity(X, V, w_lim, sa, sb, rest, n_lim, tau, dt)
+        advance_positions(X, V, R, dt, method == METHOD_ORDERED and react > 0.0, XPREV)
+        moved = True
+        if method == METHOD_PROVOT:
+            limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, provot_iterations)
+    if status == STATUS_OK:
+        i = _first_nonfinite(X)
+        if i >= 0:
+            out_bad[0] = nsteps - 1
+            out_bad[1] = i
+            status = STATUS_NONFINITE
+    from_soa(X, x)
+    from_soa(V, v)
+    if moved:
+        from_soa(XPREV, xprev)
+    return status
+
+
+@numba.njit(cache=True, error_model="numpy")
+def run_steps_xpbd(x, v, xprev, p, lam, mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, compress,
+                   gravity, air, seam_a, seam_b, seam_k, seam_c, lam_seam, dt, nsteps,
+                   iterations, limit, tau, vmax, out_bad):
+    """``nsteps`` steps of XPBD (Macklin, Müller & Chentanez 2016, "XPBD: position-based
+    simulation of compliant constrained dynamics"), the alternative integrator.
+
+    Per step: v += dt·(g − air·v) for free points; p = x + dt·v; ``iterations`` Gauss–Seidel
+    sweeps (storage order) over the springs as compliant distance constraints (compliance
+    1/k, ``compress``·k for a compressed stretch/shear spring, Rayleigh damping along the
+    spring with the spring's c: Macklin et al.'s eq. 26), the seam pairs as zero-length
+    constraints (compliance 1/``seam_k``), and, with ``limit``, every stretch/shear spring as a
+    hard inequality constraint length ≤ (1+τ)·rest (pinned and held points immovable, ``w_lim``);
+    then v = (p − x)/dt, x = p. Returns a status as :func:`run_steps` does.
+    """
+    n = x.shape[0]
+    v2max = vmax * vmax
+    inv_dt = 1.0 / dt
+    status = STATUS_OK
+    for step in range(nsteps):
+        for i in range(n):
+            if w_int[i] != 0.0:
+                for q in range(3):
+                    v[i, q] += dt * (gravity[q] - air * v[i, q])
+            s2 = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+            if w_int[i] != 0.0 and not (s2 <= v2max) and status == STATUS_OK:
+                status = STATUS_NONFINITE if s2 != s2 else STATUS_EXPLODED
+                out_bad[0] = step
+                out_bad[1] = i
+            for q in range(3):
+                p[i, q] = x[i, q] + dt * v[i, q]
+        if status != STATUS_OK:
+            break
+        lam[:] = 0.0
+        lam_seam[:] = 0.0
+        for _it in range(iterations):
+            for s in range(sa.shape[0]):
+                a = sa[s]
+                b = sb[s]
+                wa = w_int[a]
+                wb = w_int[b]
+                if wa + wb == 0.0:
+                    continue
+                dx = p[b, 0] - p[a, 0]
+                dy = p[b, 1] - p[a, 1]
+                dz = p[b, 2] - p[a, 2]
+                ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+                if ll < 1e-12:
+                    continue
+                inv = 1.0 / ll
+                dx *= inv
+                dy *= inv
+                dz *= inv
+                cc = ll - rest[s]
+                kk = k[s]
+                if cc < 0.0 and s < n_lim:
+                    kk *= compress
+                ikd = 1.0 / (kk * dt)
+                at = ikd * inv_dt  # compliance / dt²
+                gam = c[s] * ikd  # α̃·β̃/dt with β̃ = dt²·c
+                # ∇C·(p − x): the spring's lengthening speed × dt
+                dl = ((p[b, 0] - x[b, 0]) - (p[a, 0] - x[a, 0])) * dx + \
+                    ((p[b, 1] - x[b, 1]) - (p[a, 1] - x[a, 1])) * dy + \
+                    ((p[b, 2] - x[b, 2]) - (p[a, 2] - x[a, 2])) * dz
+                dlam = (-cc - at * lam[s] - gam * dl) / ((1.0 + gam) * (wa + wb) + at)
+                lam[s] += dlam
+                p[a, 0] -= wa * dlam * dx
+                p[a, 1] -= wa * dlam * dy
+                p[a, 2] -= wa * dlam * dz
+                p[b, 0] += wb * dlam * dx
+                p[b, 1] += wb * dlam * dy
+                p[b, 2] += wb * dlam * dz
+            for s in range(seam_a.shape[0]):
+                a = seam_a[s]
+                b = seam_b[s]
+                wa = w_int[a]
+                wb = w_int[b]
+                if wa + wb == 0.0:
+                    continue
+                dx = p[b, 0] - p[a, 0]
+                dy = p[b, 1] - p[a, 1]
+                dz = p[b, 2] - p[a, 2]
+                ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+                if ll < 1e-12:
+                    continue
+                dx /= ll
+                dy /= ll
+                dz /= ll
+                at = 1.0 / (seam_k * dt * dt)
+                gam = seam_c / (seam_k * dt)
+                dl = ((p[b, 0] - x[b, 0]) - (p[a, 0] - x[a, 0])) * dx + \
+                    ((p[b, 1] - x[b, 1]) - (p[a, 1] - x[a, 1])) * dy + \
+                    ((p[b, 2] - x[b, 2]) - (p[a, 2] - x[a, 2])) * dz
+                dlam = (-ll - at * lam_seam[s] - gam * dl) / ((1.0 + gam) * (wa + wb) + at)
+                lam_seam[s] += dlam
+                p[a, 0] -= wa * dlam * dx
+                p[a, 1] -= wa * dlam * dy
+                p[a, 2] -= wa * dlam * dz
+                p[b, 0] += wb * dlam * dx
+                p[b, 1] += wb * dlam * dy
+                p[b, 2] += wb * dlam * dz
+            if limit:
+                for s in range(n_lim):
+                    a = sa[s]
+                    b = sb[s]
+                    wa = w_lim[a]
+                    wb = w_lim[b]
+                    wsum = wa + wb
+                    if wsum == 0.0:
+                        continue
+                    dx = p[b, 0] - p[a, 0]
+                    dy = p[b, 1] - p[a, 1]
+                    dz = p[b, 2] - p[a, 2]
+                    ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+                    lim = (1.0 + tau) * rest[s]
+                    if ll <= lim:
+                        continue
+                    g = (ll - lim) / (ll * wsum)
+                    p[a, 0] += wa * g * dx
+                    p[a, 1] += wa * g * dy
+                    p[a, 2] += wa * g * dz
+                    p[b, 0] -= wb * g * dx
+                    p[b, 1] -= wb * g * dy
+                    p[b, 2] -= wb * g * dz
+        for i in range(n):
+            if w_int[i] != 0.0:
+                for q in range(3):
+                    v[i, q] = (p[i, q] - x[i, q]) * inv_dt
+            s2 = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+            if w_int[i] != 0.0 and not (s2 <= v2max) and status == STATUS_OK:
+                status = STATUS_NONFINITE if s2 != s2 else STATUS_EXPLODED
+                out_bad[0] = step
+                out_bad[1] = i
+        if status != STATUS_OK:
+            break
         for i in range(n):
             for q in range(3):
                 xprev[i, q] = x[i, q]
-                x[i, q] += dt * v[i, q]
-        if method == METHOD_ORDERED and react > 0.0:
-            for i in range(n):
-                for q in range(3):
-                    v[i, q] += r[i, q]
-        if method == METHOD_PROVOT:
-            limit_provot_positions(x, v, w_lim, sa, sb, rest, n_lim, tau, dt, provot_iterations)
-    for i in range(n):
-        for q in range(3):
-            if not np.isfinite(x[i, q]):
-                out_bad[0] = nsteps - 1
-                out_bad[1] = i
-                return STATUS_NONFINITE
-    return STATUS_OK
+                x[i, q] = p[i, q]
+    if status == STATUS_OK:
+        for i in range(n):
+            for q in range(3):
+                if not np.isfinite(x[i, q]):
+                    out_bad[0] = nsteps - 1
+                    out_bad[1] = i
+                    return STATUS_NONFINITE
+    return status
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -522,11 +916,8 @@ def spring_energy(x, sa, sb, rest, k, n_lim, compress):
         dy = x[b, 1] - x[a, 1]
         dz = x[b, 2] - x[a, 2]
         d = np.sqrt(dx * dx + dy * dy + dz * dz) - rest[s]
-        cap = STRAIN_FORCE_CAP * rest[s]
         if d < 0.0 and s < n_lim:
             e += k[s] * _compressed_energy(d, rest[s], compress)
-        elif d > cap and s < n_lim:
-            e += k[s] * cap * (d - 0.5 * cap)
         else:
             e += 0.5 * k[s] * d * d
     return e

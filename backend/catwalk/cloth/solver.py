@@ -25,6 +25,9 @@ point) this gives ``dt_stable`` (= √2/π·T₀ ≈ 0.45·T₀ without damping)
 **Failure.** Non-finite values or a speed above ``max_speed`` raise :class:`ClothExplosionError`
 (a :class:`~catwalk.errors.CatwalkError`) naming the step and point; the state is marked
 ``failed`` and refused afterwards.
+
+``Solver(model, method, integrator="xpbd")`` swaps steps 1–4 for XPBD, an alternative kept for
+comparison (``catwalk bench cloth --integrators xpbd``; see docs/cloth.md).
 """
 
 from __future__ import annotations
@@ -40,6 +43,7 @@ from catwalk.errors import CatwalkError
 
 METHODS = {"none": K.METHOD_NONE, "ordered": K.METHOD_ORDERED, "vassilev": K.METHOD_VASSILEV,
            "provot": K.METHOD_PROVOT}
+INTEGRATORS = ("explicit", "xpbd")
 GRAVITY = (0.0, -9.81, 0.0)
 
 
@@ -103,6 +107,13 @@ class Solver:
     e.g. to settle a drape faster. ``held_fixed``: points held by the body are immovable in the
     strain limit (the paper); False lets them be corrected like free points, so that cloth
     pulled round the body while sewing can slide instead of being pinned where it touches.
+
+    ``integrator``: ``explicit`` (the paper: eq. 2–3 and the chosen strain-limit pass) or
+    ``xpbd`` (:func:`catwalk.cloth.kernels.run_steps_xpbd`: the springs as compliant
+    constraints, ``xpbd_iterations`` Gauss–Seidel sweeps per step of ``xpbd_dt`` seconds,
+    unconditionally stable; the strain limit becomes a hard constraint in the same sweeps, or is
+    left out with ``method="none"``). With ``xpbd``, ``dt_max`` is ``xpbd_dt`` (``dt_stable``
+    stays the explicit scheme's bound, for comparison).
     """
 
     def __init__(self, model: ClothModel, method: str = "ordered", *, gravity=GRAVITY,
@@ -110,7 +121,18 @@ class Solver:
                  share: bool = False, passes: int = 1, provot_iterations: int = 8,
                  sewing: bool = False, seam_stiffness: float = 50.0, seam_damping: float = 0.05,
                  extra_air: float = 0.0, tau: float | None = None, max_speed: float = 100.0,
-                 allow_unstable: bool = False, held_fixed: bool = True):
+                 allow_unstable: bool = False, held_fixed: bool = True,
+                 integrator: str = "explicit", xpbd_dt: float = 1e-3,
+                 xpbd_iterations: int = 8):
+        if integrator not in INTEGRATORS:
+            raise CatwalkError(f"unknown integrator {integrator!r} "
+                               f"(choose from {', '.join(INTEGRATORS)})")
+        if integrator == "xpbd" and not (math.isfinite(xpbd_dt) and xpbd_dt > 0
+                                         and int(xpbd_iterations) >= 1):
+            raise CatwalkError("xpbd needs xpbd_dt > 0 s and xpbd_iterations ≥ 1")
+        self.integrator = integrator
+        self.xpbd_dt = float(xpbd_dt)
+        self.xpbd_iterations = int(xpbd_iterations)
         if method not in METHODS:
             raise CatwalkError(f"unknown strain-limit method {method!r} "
                                f"(choose from {', '.join(METHODS)})")
@@ -143,15 +165,21 @@ class Solver:
         self._model_id = id(model)
         self._model = model
         self._inv_mass = 1.0 / model.mass
-        self._f = np.zeros((n, 3))
-        self._r = np.zeros((n, 3))
-        self._xp = np.zeros((n, 3))
+        # (3, n) work arrays of the kernels (structure of arrays, see cloth/kernels.py)
+        self._work = {name: np.zeros((3, n)) for name in ("X", "V", "XP", "XPREV", "F", "R")}
+        self._dirty = np.zeros(n, dtype=np.uint8)
         self._xprev = np.zeros((n, 3))
         self._bad = np.zeros(2, dtype=np.int64)
+        # springs in runs of consecutive end points (the vectorised force loop)
+        self._runs, self._n_runs_lim = K.model_runs(model.spring_a, model.spring_b,
+                                                    model.n_limited)
         self._centres = None
         self._order = (np.arange(n, dtype=np.int32), np.zeros(n + 1, dtype=np.int32),
                        np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32),
                        np.zeros(n, dtype=np.int64), np.zeros(0, dtype=np.uint8))
+        self._order_lim = np.zeros(0)
+        self._order_lim2 = np.zeros(0)
+        self._order_pt_cross = np.zeros(n, dtype=np.uint8)
         empty = np.zeros(0, dtype=np.int32)
         self._seam_a = model.seam_a if self.sewing else empty
         self._seam_b = model.seam_b if self.sewing else empty
@@ -161,6 +189,11 @@ class Solver:
             self._seam_pts[model.seam_b] = True
         self.dt_stable, self.t0_eq4 = self._stability(model)
         self.dt_max = self.safety * self.dt_stable
+        if self.integrator == "xpbd":
+            self.dt_max = self.xpbd_dt
+            self._p = np.zeros((n, 3))
+            self._lam = np.zeros(model.n_springs)
+            self._lam_seam = np.zeros(len(self._seam_a))
 
     def _stability(self, model: ClothModel) -> tuple[float, float]:
         n = model.n_points
@@ -199,11 +232,18 @@ class Solver:
         self._w_lim = (np.where(state.held, 0.0, self._w_int) if self.held_fixed
                        else self._w_int)
         self._centres = centres.copy()
-        if self.method != "ordered":
+        if self.method != "ordered" or self.integrator != "explicit":
             return False
         m = self._model
         self._order = K.tension_order(m.n_points, m.adj_ptr, m.adj_spring, m.adj_other,
                                       centres.astype(np.uint8), state.positions)
+        ptr, spr, cross = self._order[1], self._order[2], self._order[5]
+        self._order_lim = (1.0 + self.tau) * m.spring_rest[spr]
+        # (1 − 1e-12)·lim²: a squared length at most this is surely ≤ lim after the square root
+        self._order_lim2 = self._order_lim * self._order_lim * (1.0 - 1e-12)
+        k_of = np.repeat(np.arange(m.n_points), np.diff(ptr))  # entry → its point's rank
+        self._order_pt_cross = (np.bincount(k_of, weights=cross, minlength=m.n_points)
+                                > 0).astype(np.uint8)
         self.order_rebuilds += 1
         return True
 
@@ -242,17 +282,36 @@ class Solver:
         return StepInfo(nsub, h, int(state.held.sum()), rebuilt)
 
     def _run(self, model, state, w_int, w_lim, h, nsteps):
-        op, optr, ospr, ooth = self._order[:4]
+        if self.integrator == "xpbd":
+            status = K.run_steps_xpbd(
+                state.positions, state.velocities, self._xprev, self._p, self._lam, model.mass,
+                w_int, w_lim, model.spring_a, model.spring_b, model.spring_rest, model.spring_k,
+                model.spring_c, model.n_limited, model.fabric.compression, self.gravity,
+                model.fabric.air + self.extra_air, self._seam_a, self._seam_b,
+                self.seam_stiffness, self.seam_damping, self._lam_seam, h, nsteps,
+                self.xpbd_iterations, self.method != "none", self.tau, self.max_speed,
+                self._bad)
+        else:
+            status = self._run_explicit(model, state, w_int, w_lim, h, nsteps)
+        self._check(state, status, h, nsteps)
+
+    def _run_explicit(self, model, state, w_int, w_lim, h, nsteps):
+        op, optr, _, ooth = self._order[:4]
         ocross = self._order[5]
+        w = self._work
         status = K.run_steps(
-            state.positions, state.velocities, self._xprev, self._f, model.mass, w_int, w_lim,
-            model.spring_a, model.spring_b, model.spring_rest, model.spring_k, model.spring_c,
-            model.n_limited, model.fabric.compression, self.gravity,
+            state.positions, state.velocities, self._xprev, w["X"], w["V"], w["XP"], w["XPREV"],
+            w["F"], w["R"], self._dirty, model.mass, w_int, w_lim, model.spring_a, model.spring_b,
+            model.spring_rest, model.spring_k, model.spring_c, model.n_limited, self._runs,
+            self._n_runs_lim, model.fabric.compression, self.gravity,
             model.fabric.air + self.extra_air, self._seam_a, self._seam_b, self.seam_stiffness,
-            self.seam_damping, h, nsteps, METHODS[self.method], self.tau, op, optr, ospr, ooth,
-            ocross, self.sweeps, self.react, self._r, self._xp, self.share, self.passes,
-            self.provot_iterations,
-            self.max_speed, self._bad)
+            self.seam_damping, h, nsteps, METHODS[self.method], self.tau, op, optr, ooth, ocross,
+            self._order_lim, self._order_lim2, self._order_pt_cross, model.adj_ptr,
+            model.adj_other, self.sweeps, self.react, self.share, self.passes,
+            self.provot_iterations, self.max_speed, self._bad)
+        return status
+
+    def _check(self, state, status, h, nsteps):
         if status != K.STATUS_OK:
             step = int(self._bad[0])
             t = state.time + (step + 1) * h
@@ -274,7 +333,8 @@ class Solver:
         over ``dt`` (the time since the previous collision response). Without it a stiff
         fabric turns a few millimetres of push into tens of m/s of spring oscillation."""
         w = np.where(state.held | state.pinned, 0.0, self._inv_mass)
-        K.limit_provot_positions(state.positions, state.velocities, w, model.spring_a,
+        # the kernel works on (3, n) arrays; the transposed views are changed in place
+        K.limit_provot_positions(state.positions.T, state.velocities.T, w, model.spring_a,
                                  model.spring_b, model.spring_rest, model.n_limited, self.tau,
                                  float(dt), int(iterations))
 

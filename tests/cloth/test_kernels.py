@@ -1,0 +1,140 @@
+"""The fast kernels against plain references: the run-based force loop must give the plain loop
+over springs to the last bit, and the ordered pass that visits only the points near over-long
+springs must give what visiting every point gives."""
+
+import numpy as np
+import pytest
+
+from catwalk.cloth import kernels as K
+from catwalk.cloth.builder import Panel, build_cloth, circle, rectangle, vertical
+from catwalk.cloth.kernels import SOFT_BAND
+from catwalk.cloth.model import State
+from catwalk.cloth.scenes import hanging_cloth
+from catwalk.cloth.solver import Solver
+
+
+def _irregular_model():
+    """A rectangle and a disc (off-grid outline points: many runs of length 1)."""
+    return build_cloth([Panel(rectangle(0.3, 0.2), placement=vertical((0, 1, 0))),
+                        Panel(circle(0.1, 37, (0.1, 0.1)), placement=vertical((0.4, 1, 0)))],
+                       fabric="cotton-jersey", h=0.02)
+
+
+def _reference_forces(m, x, v, gravity, air):
+    """The plain loop over springs in storage order, in numpy (no fused multiply-add)."""
+    sa, sb = m.spring_a, m.spring_b
+    f = m.mass[:, None] * (gravity[None, :] - air * v)
+    d = x[sb] - x[sa]
+    ll = np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1] + d[:, 2] * d[:, 2])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        nrm = d * (1.0 / ll)[:, None]
+    dv = v[sb] - v[sa]
+    rv = dv[:, 0] * nrm[:, 0] + dv[:, 1] * nrm[:, 1] + dv[:, 2] * nrm[:, 2]
+    rest = m.spring_rest
+    e = ll - rest
+    cp = m.fabric.compression
+    band = SOFT_BAND * rest
+    soft = np.where(e > -band, e + (1.0 - cp) * e * e / (2.0 * band),
+                    cp * e - (1.0 - cp) * 0.5 * band)
+    comp = (e < 0.0) & (np.arange(len(sa)) < m.n_limited)
+    fs = m.spring_k * np.where(comp, soft, e) + m.spring_c * rv
+    fs = np.where(ll < 1e-12, 0.0, fs)
+    fv = fs[:, None] * nrm
+    # each point receives its springs' forces in storage order (np.add.at is sequential)
+    idx = np.column_stack([sa, sb]).ravel()
+    val = np.stack([fv, -fv], axis=1).reshape(-1, 3)
+    np.add.at(f, idx, val)
+    return f
+
+
+def test_spring_runs_cover_every_spring_once_in_storage_order():
+    m = _irregular_model()
+    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    s = np.concatenate([r[0] + np.arange(r[3]) for r in runs])
+    assert np.array_equal(s, np.arange(m.n_springs))  # each once, in storage order
+    a = np.concatenate([r[1] + np.arange(r[3]) for r in runs])
+    b = np.concatenate([r[2] + np.arange(r[3]) for r in runs])
+    assert np.array_equal(a, m.spring_a) and np.array_equal(b, m.spring_b)
+    assert runs[n_runs_lim - 1, 0] + runs[n_runs_lim - 1, 3] == m.n_limited
+    assert runs[:, 3].max() <= K.RUN_CHUNK
+    # Provot's grid is mostly long runs
+    grid, _ = hanging_cloth(0.6, 0.6, h=0.02)
+    gr, _ = K.model_runs(grid.spring_a, grid.spring_b, grid.n_limited)
+    assert gr[gr[:, 3] >= 8, 3].sum() > 0.9 * grid.n_springs
+
+
+@pytest.mark.parametrize("scale", [0.97, 1.0, 1.08])
+def test_run_forces_equal_the_plain_spring_loop_bit_for_bit(scale):
+    m = _irregular_model()
+    rng = np.random.default_rng(3)
+    c = m.rest_positions.mean(axis=0)
+    # stretched, compressed (in and beyond the soft band) and sheared springs, moving points
+    x = c + scale * (m.rest_positions - c) + rng.normal(0, 0.002, (m.n_points, 3))
+    v = rng.normal(0, 0.3, (m.n_points, 3))
+    gravity = np.array([0.0, -9.81, 0.0])
+    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    F = np.zeros((3, m.n_points))
+    none = np.zeros(0, dtype=np.int32)
+    K.accumulate_forces(np.ascontiguousarray(x.T), np.ascontiguousarray(v.T), m.mass, runs,
+                        n_runs_lim, m.spring_rest, m.spring_k, m.spring_c, m.fabric.compression,
+                        gravity, m.fabric.air, none, none, 0.0, 0.0, F)
+    ref = _reference_forces(m, x, v, gravity, m.fabric.air)
+    assert np.array_equal(F.T, ref)
+
+
+@pytest.mark.parametrize("share", [False, True])
+def test_ordered_pass_on_marked_points_equals_the_pass_over_every_point(share):
+    m, st = hanging_cloth(0.4, 0.4, h=0.02, pins="corners")  # two clusters: fronts meet
+    sol = Solver(m, "ordered", share=share)
+    sol.run(m, st, 0.2)
+    rng = np.random.default_rng(5)
+    n = m.n_points
+    X = np.ascontiguousarray(st.positions.T)
+    V = np.ascontiguousarray(st.velocities.T)
+    kicked = rng.random(n) < 0.08
+    V[:, kicked] += rng.normal(0, 8.0, (3, kicked.sum()))  # a few points ±2 mm a step
+    dt = sol.dt_max
+    order = sol.processing_order(st)
+    pts, ptr, _, oth, _, cross = order
+    assert cross.sum() > 0
+    results = []
+    for everything in (False, True):
+        Vw = V.copy()
+        XP = np.zeros((3, n))
+        R = np.zeros((3, n))
+        dirty = np.zeros(n, dtype=np.uint8)
+        K.predict(X, Vw, dt, XP)
+        K.mark_overstretched(XP, sol._runs, sol._n_runs_lim, m.spring_rest, sol.tau, dirty)
+        if everything:
+            assert 0.05 * n < dirty.sum() < 0.8 * n
+            dirty[:] = 1
+        K.limit_ordered_velocity(XP, Vw, sol._w_lim, dt, pts, ptr, oth, cross, sol._order_lim,
+                                 sol._order_lim2, sol._order_pt_cross, 2, 1.0, R, share, dirty,
+                                 m.adj_ptr, m.adj_other, np.empty(16, dtype=np.int64),
+                                 np.empty((16, 3)))
+        results.append((Vw, XP, R))
+    for a, b in zip(*results, strict=True):
+        assert np.array_equal(a, b)
+    assert not np.array_equal(results[0][0], V)  # the pass did correct something
+
+
+def test_solver_results_do_not_depend_on_how_steps_are_grouped():
+    """One kernel call of 50 steps = 50 calls of one step (the (3, n) copies in and out)."""
+    m, st = hanging_cloth(0.3, 0.3, h=0.03, pins="corners")
+    a, b = st.copy(), st.copy()
+    sa, sb = Solver(m, "ordered"), Solver(m, "ordered")
+    sa.step(m, a, None, 50 * sa.dt_max)
+    for _ in range(50):
+        sb.step(m, b, None, sb.dt_max)
+    assert np.array_equal(a.positions, b.positions)
+    assert np.array_equal(a.velocities, b.velocities)
+    assert sa.last_speed(a) == sb.last_speed(b)
+
+
+def test_a_cloth_with_irregular_outlines_runs():
+    m = _irregular_model()
+    st = State.from_model(m)
+    st.pinned[0] = True
+    sol = Solver(m, "ordered")
+    sol.run(m, st, 0.05)
+    assert np.all(np.isfinite(st.positions))
