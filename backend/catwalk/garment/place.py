@@ -27,6 +27,9 @@ seen from outside the garment, +v up):
   highest point (the high shoulder point of a bodice) goes to the height of ``neck_side_left``
   (front and back necklines differ by 5–10 cm, so anchoring both centre necks at one height
   would put their shoulder seams that far apart);
+- one leg (``left_leg``/``right_leg``), wrapped: the tube follows the leg from
+  ``leg_root_<side>`` (the hip joint, for a rigged body) through the knee to the ankle when
+  those landmarks exist (a vertical cylinder through the knee otherwise);
 - ``wrap``: torso and legs panels bend round a vertical cylinder (for the torso centred, front
   to back, at the armpits' depth, so front and back panels meet under the arms) of the part's
   radius +
@@ -194,6 +197,16 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
             wrist = landmarks.get(f"wrist_{side}")
             if elbow is not None and wrist is not None:   # follow the bent arm
                 axis = np.array([foot, elbow, wrist], float) + offset
+                to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation)
+        elif cyl and part in ("left_leg", "right_leg"):
+            side = "left" if part == "left_leg" else "right"
+            root, knee = landmarks.get(f"leg_root_{side}"), landmarks.get(f"knee_{side}")
+            ankle = landmarks.get(f"ankle_{side}")
+            if root is not None and knee is not None and ankle is not None:   # follow the leg
+                root, knee, ankle = (np.asarray(p, float) for p in (root, knee, ankle))
+                up = (root - knee) / np.linalg.norm(root - knee)
+                top = root + up * (anchor[1] - root[1]) / max(up[1], 0.2)
+                axis = np.array([top, knee, ankle]) + offset
                 to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation)
         out.append(PanelPlacement(piece.name, m, cyl, to_world))
     return out

@@ -75,6 +75,37 @@ def _quiet(stage: str, i: int, total: int) -> None:
     pass
 
 
+def floor_contact(state: State, thickness: float, friction: float, y0: float = 0.0) -> None:
+    """The catwalk's floor (y = ``y0``, the body's soles): points below ``y0 + thickness`` go up
+    to it, lose their downward velocity and, by Coulomb friction, μ·|Δv_y| of their sliding
+    speed; they count as held."""
+    x, v = state.positions, state.velocities
+    low = x[:, 1] < y0 + thickness
+    if not low.any():
+        return
+    idx = np.nonzero(low)[0]
+    x[idx, 1] = y0 + thickness
+    dv = np.maximum(-v[idx, 1], 0.0)
+    v[idx, 1] = np.maximum(v[idx, 1], 0.0)
+    slide = np.sqrt(v[idx, 0] ** 2 + v[idx, 2] ** 2)
+    keep = np.where(slide > 0, np.maximum(slide - friction * dv, 0.0) / np.maximum(slide, 1e-12),
+                    0.0)
+    v[idx, 0] *= keep
+    v[idx, 2] *= keep
+    state.held[idx] = True
+
+
+def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
+                     h: float, alpha: float | None = None) -> None:
+    """One collision response: the body (the collider), the floor, then Provot's correction
+    so the cloth round the pushed points follows them (over the ``h`` seconds since the last
+    response)."""
+    held = collider.resolve(state.positions, state.velocities, x0, alpha=alpha)
+    state.held = np.asarray(held, dtype=bool)
+    floor_contact(state, collider.thickness, collider.friction)
+    solver.after_collision(model, state, h)
+
+
 def advance(solver: Solver, model: ClothModel, state: State, collider, duration: float,
             collisions: int, x0: np.ndarray) -> None:
     """Simulate ``duration`` seconds with ``collisions`` collider resolves evenly spread; the
@@ -83,9 +114,7 @@ def advance(solver: Solver, model: ClothModel, state: State, collider, duration:
     for _ in range(collisions):
         x0[:] = state.positions
         solver.step(model, state, None, h)
-        held = collider.resolve(state.positions, state.velocities, x0)
-        state.held = np.asarray(held, dtype=bool)
-        solver.after_collision(model, state, h)
+        resolve_contacts(solver, model, state, collider, x0, h)
 
 
 def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
@@ -96,10 +125,12 @@ def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.n
     for r in range(rounds):
         x0[:] = state.positions
         held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
+        state.held = np.asarray(held, dtype=bool)
+        floor_contact(state, collider.thickness, 0.0)
         # the first rounds relax every spring (points pushed to opposite sides of a thin limb
         # pull each other back); the last keeps the pushed points where the body put them
-        state.held = np.asarray(held, dtype=bool) if r == rounds - 1 else \
-            np.zeros(model.n_points, dtype=bool)
+        if r < rounds - 1:
+            state.held[:] = False
         solver.after_collision(model, state, CHUNK, iterations=30)
     state.velocities[:] = 0.0
 

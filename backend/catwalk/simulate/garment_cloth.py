@@ -54,19 +54,37 @@ def body_girths(body) -> dict:
 
 
 def placement_landmarks(body) -> dict:
-    """The body's landmarks plus, for a rigged body, ``arm_root_left``/``arm_root_right``:
-    the shoulder joints (the axis of a sleeve starts there, not at the shoulder's surface)."""
+    """The body's landmarks plus, for a rigged body, ``arm_root_left``/``arm_root_right`` and
+    ``leg_root_left``/``leg_root_right``: the shoulder and hip joints (a sleeve's or a trouser
+    leg's axis starts there, not at the body's surface)."""
     lm = dict(body.landmarks)
     sk = body.skeleton
     if sk is not None:
         world = sk.rest_world
-        for side, names in (("left", ("upperarm_l", "upperarm.L", "upper_arm.L")),
-                            ("right", ("upperarm_r", "upperarm.R", "upper_arm.R"))):
+        for key, names in (("arm_root_left", ("upperarm_l", "upperarm.L", "upper_arm.L")),
+                           ("arm_root_right", ("upperarm_r", "upperarm.R", "upper_arm.R")),
+                           ("leg_root_left", ("thigh_l", "upperleg01.L", "thigh.L")),
+                           ("leg_root_right", ("thigh_r", "upperleg01.R", "thigh.R"))):
             for n in names:
                 if n in sk.names:
-                    lm[f"arm_root_{side}"] = world[sk.names.index(n)][:3, 3].tolist()
+                    lm[key] = world[sk.names.index(n)][:3, 3].tolist()
                     break
     return lm
+
+
+FEET_CLEARANCE = 0.05   # m above the ankles that a placed garment's lowest point must be
+
+
+def _lift_over_feet(model: ClothModel, body) -> float:
+    """How far to lift a garment placed down to the floor so that no piece starts round the
+    feet (a straight tube cannot clear them: the collider would push hem points to both sides
+    of a foot and sewing could not close the hem ends). Gravity takes it down again while it
+    settles; the waist lands where the body holds it."""
+    ankles = [body.landmarks[k][1] for k in ("ankle_left", "ankle_right") if k in body.landmarks]
+    if not ankles:
+        return 0.0
+    low = float(model.rest_positions[:, 1].min())
+    return max(0.0, max(ankles) + FEET_CLEARANCE - low)
 
 
 def garment_cloth(garment: Garment, body, size: str | None = None, fabric=None,
@@ -87,6 +105,9 @@ def garment_cloth(garment: Garment, body, size: str | None = None, fabric=None,
     panels = [Panel(pc.flat.points, name=pc.name, placement=pl.to_world)
               for pc, pl in zip(pieces, placements, strict=True)]
     model = build_cloth(panels, [Seam(*s) for s in seams], fabric=fab, h=h)
+    lift = _lift_over_feet(model, body)
+    if lift > 0:
+        model.rest_positions[:, 1] += lift
     base = garment.path.parent if garment.path else Path(".")
     textures, colors = [], []
     for pc in pieces:

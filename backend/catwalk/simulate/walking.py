@@ -28,7 +28,15 @@ from catwalk.body.types import Motion
 from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.collide import make_collider
 from catwalk.motion.skinning import body_frames
-from catwalk.simulate.dressing import Cancelled, Dressed, _never, _quiet, collisions_for
+from catwalk.simulate.dressing import (
+    Cancelled,
+    Dressed,
+    _never,
+    _quiet,
+    collisions_for,
+    floor_contact,
+    resolve_contacts,
+)
 from catwalk.simulate.garment_cloth import seam_gaps
 from catwalk.simulate.metrics import BodySurface, penetration
 from catwalk.simulate.settings import PRESETS, Settings
@@ -128,18 +136,15 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                 t1 = time.perf_counter()
                 solver.step(model, state, None, h)
                 t2 = time.perf_counter()
-                held = collider.resolve(state.positions, state.velocities, x0)
-                state.held = np.asarray(held, dtype=bool)
-                t3 = time.perf_counter()
-                solver.after_collision(model, state, h)
-                tc += t3 - t2
-                tcl += time.perf_counter() - t3
+                resolve_contacts(solver, model, state, collider, x0, h)
+                tc += time.perf_counter() - t2
                 tcl += t2 - t1
             # the relaxation may have pulled free points into the body: settle the frame's
             # final positions against the body as it is at the frame's time
             t2 = time.perf_counter()
             held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
             state.held = np.asarray(held, dtype=bool)
+            floor_contact(state, collider.thickness, collider.friction)
             tc += time.perf_counter() - t2
         except ClothExplosionError as exc:
             raise ClothExplosionError(f"walk frame {f - n_pre} (t = {(f - n_pre) * frame_dt:.3f} "
