@@ -8,7 +8,7 @@ STAMP := $(VENV)/.installed
 NODE_STAMP := tools/node/node_modules/.installed
 FS_STAMP := garments/freesewing/node_modules/.installed
 PYTEST_ARGS ?=
-DEMO_GARMENT ?= garments/pencil-skirt.json
+DEMO_GARMENT ?= garments/dress.json
 
 .PHONY: install demo test lint bodies clean
 

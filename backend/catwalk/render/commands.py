@@ -22,19 +22,28 @@ def _size(text: str) -> tuple[int, int]:
 
 
 def render_sheet(scene, times, views, size) -> np.ndarray:
-    """Images of ``scene`` at ``times`` (columns) from ``views`` (rows), one fixed camera box
-    per view covering every frame drawn."""
+    """Images of ``scene`` at ``times`` (columns) from ``views`` (rows). Every cell has the
+    same scale — a box as large as the largest frame's — centred on its own frame, so a body
+    walking metres down the catwalk stays the same size and in view."""
     from catwalk.render.preview import render_meshes
 
     frames = {t: [(v, f, rgb) for _, v, f, rgb in scene.meshes_at(t)] for t in times}
-    allv = np.concatenate([m[0] for ms in frames.values() for m in ms])
-    lo, hi = allv.min(axis=0), allv.max(axis=0)
-    lo[1] = min(lo[1], 0.0)
+    boxes = {}
+    for t, ms in frames.items():
+        v = np.concatenate([m[0] for m in ms])
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        lo[1] = min(lo[1], 0.0)
+        boxes[t] = (lo, hi)
+    extent = np.max([hi - lo for lo, hi in boxes.values()], axis=0)
     rows = []
     for view in views:
         cells = []
         for t in times:
-            bbox = None if len(times) == 1 else (lo, hi)
+            lo, hi = boxes[t]
+            mid = 0.5 * (lo + hi)
+            box = (mid - 0.5 * extent, mid + 0.5 * extent)
+            box[0][1], box[1][1] = lo[1], lo[1] + extent[1]
+            bbox = None if len(times) == 1 else box
             cells.append(render_meshes(frames[t], view=view, size=size, bbox=bbox))
         rows.append(np.concatenate(cells, axis=1))
     return np.concatenate(rows, axis=0)

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from catwalk.cloth.model import ClothModel, State
-from catwalk.cloth.solver import Solver, max_strain
+from catwalk.cloth.solver import ClothExplosionError, Solver, max_strain
 from catwalk.collide import make_collider
 from catwalk.errors import CatwalkError
 from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gaps, weld
@@ -107,14 +107,46 @@ def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, 
 
 
 def advance(solver: Solver, model: ClothModel, state: State, collider, duration: float,
-            collisions: int, x0: np.ndarray) -> None:
-    """Simulate ``duration`` seconds with ``collisions`` collider resolves evenly spread; the
-    solver's own time step (below its stability bound) runs in between."""
-    h = duration / collisions
-    for _ in range(collisions):
-        x0[:] = state.positions
-        solver.step(model, state, None, h)
-        resolve_contacts(solver, model, state, collider, x0, h)
+            collisions: int, x0: np.ndarray, max_collisions: int | None = None,
+            clock: dict | None = None) -> int:
+    """Simulate ``duration`` seconds with ``collisions`` collider resolves evenly spread (the
+    k-th at ``alpha = k/collisions`` of the body's motion over the interval); the solver's own
+    time step (below its stability bound) runs in between.
+
+    If the cloth blows up (:class:`ClothExplosionError`), the interval is run again from its
+    start with twice the resolves, up to ``max_collisions`` (default: no retry) — cloth that
+    sank too far between two resolves is shoved out violently; closer resolves keep it out.
+    Returns the number of resolves that succeeded. ``clock`` accumulates seconds spent in the
+    cloth solver (``"cloth"``) and in collision response (``"collider"``: the collider, the
+    floor, Provot's correction)."""
+    limit = collisions if max_collisions is None else max(collisions, max_collisions)
+    start = state.copy()
+    while True:
+        try:
+            h = duration / collisions
+            for k in range(collisions):
+                x0[:] = state.positions
+                t0 = time.perf_counter()
+                solver.step(model, state, None, h)
+                t1 = time.perf_counter()
+                resolve_contacts(solver, model, state, collider, x0, h,
+                                 alpha=(k + 1) / collisions)
+                if clock is not None:
+                    clock["cloth"] = clock.get("cloth", 0.0) + t1 - t0
+                    clock["collider"] = clock.get("collider", 0.0) + time.perf_counter() - t1
+            return collisions
+        except ClothExplosionError:
+            if collisions >= limit:
+                raise
+            _restore(state, start)
+            collisions = min(2 * collisions, limit)
+
+
+def _restore(state: State, saved: State) -> None:
+    state.positions[:] = saved.positions
+    state.velocities[:] = saved.velocities
+    state.held[:] = saved.held
+    state.time, state.steps, state.failed = saved.time, saved.steps, None
 
 
 def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
@@ -224,7 +256,8 @@ def dress(body, garment, size: str | None = None, fabric=None,
         if (i + 1) * CHUNK <= settings.sew_free_seconds:
             solver.step(model, state, None, CHUNK)
         else:
-            advance(solver, model, state, collider, CHUNK, settings.max_collisions, x0)
+            advance(solver, model, state, collider, CHUNK, settings.sew_collisions, x0,
+                    settings.max_collisions * 4)
         sewn_chunks = i + 1
         gaps = seam_gaps(model, state.positions)
         history.append(float(gaps.max()))
@@ -263,7 +296,8 @@ def dress(body, garment, size: str | None = None, fabric=None,
         if cancel():
             raise Cancelled("dressing cancelled")
         prev[:] = st.positions
-        advance(solver, welded, st, collider, CHUNK, settings.max_collisions, x0)
+        advance(solver, welded, st, collider, CHUNK, settings.sew_collisions, x0,
+                settings.max_collisions * 4)
         speed = _p99_move(st.positions, prev) / CHUNK
         settled_chunks = i + 1
         progress("settling", i + 1, chunks)

@@ -38,6 +38,7 @@ class Settings:
     max_move: float = 0.005
     min_collisions: int = 20
     max_collisions: int = 60
+    sew_collisions: int = 20
     sew_omega: float = 500.0
     sew_seconds: float = 2.0
     sew_stall_seconds: float = 0.3
@@ -62,6 +63,8 @@ class Settings:
             raise InputError(f"grid spacing h must be within 0.004–0.1 m, got {self.h}")
         if self.min_collisions < 1 or self.max_collisions < self.min_collisions:
             raise InputError("need 1 <= min_collisions <= max_collisions")
+        if self.sew_collisions < 1:
+            raise InputError("sew_collisions must be >= 1")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
@@ -76,10 +79,12 @@ class Settings:
 
 PRESETS: dict[str, Settings] = {
     "fast": Settings(name="fast", h=0.025, map_size=128, max_move=0.01, min_collisions=10,
+                     sew_collisions=10,
                      sew_seconds=1.5, settle_seconds=1.5, blend_seconds=0.4),
     "balanced": Settings(),
     "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
                          min_collisions=40, max_collisions=120, thickness=0.003,
+                         sew_collisions=40,
                          sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.03),
 }
 

@@ -6,7 +6,8 @@ pose into the motion's first pose over ``settings.blend_seconds`` (joint rotatio
 translations lerped) so the first recorded frames do not jerk, and then plays the motion.
 Per 30-fps frame the collider is updated once and resolved ``n`` times, ``n`` from the body's
 fastest vertex (it moves at most ``settings.max_move`` between two resolves, clamped to
-``min_collisions`` … ``max_collisions``); the cloth solver runs at its own stable step in
+``min_collisions`` … ``max_collisions``; a frame whose cloth blows up is run again with twice
+the resolves, up to 4 × ``max_collisions``); the cloth solver runs at its own stable step in
 between, and after each resolve Provot's position correction
 (:meth:`~catwalk.cloth.solver.Solver.after_collision`) lets the cloth round the pushed points
 follow them. One more resolve at the frame's time ends every frame, so the recorded positions
@@ -33,9 +34,9 @@ from catwalk.simulate.dressing import (
     Dressed,
     _never,
     _quiet,
+    advance,
     collisions_for,
     floor_contact,
-    resolve_contacts,
 )
 from catwalk.simulate.garment_cloth import seam_gaps
 from catwalk.simulate.metrics import BodySurface, penetration
@@ -124,21 +125,14 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
             raise Cancelled("try-on cancelled")
         move = float(np.sqrt(np.max(np.sum((verts[f] - verts[f - 1]) ** 2, axis=1))))
         n_col = collisions_for(move, settings)
+        clock = {}
         t0 = time.perf_counter()
         collider.update(verts[f].astype(np.float64), vels[f].astype(np.float64),
                         substeps=n_col)
         tc = time.perf_counter() - t0
-        tcl = 0.0
-        h = frame_dt / n_col
         try:
-            for _ in range(n_col):
-                x0[:] = state.positions
-                t1 = time.perf_counter()
-                solver.step(model, state, None, h)
-                t2 = time.perf_counter()
-                resolve_contacts(solver, model, state, collider, x0, h)
-                tc += time.perf_counter() - t2
-                tcl += t2 - t1
+            n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
+                            settings.max_collisions * 4, clock)
             # the relaxation may have pulled free points into the body: settle the frame's
             # final positions against the body as it is at the frame's time
             t2 = time.perf_counter()
@@ -149,6 +143,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         except ClothExplosionError as exc:
             raise ClothExplosionError(f"walk frame {f - n_pre} (t = {(f - n_pre) * frame_dt:.3f} "
                                       f"s): {exc}") from None
+        tc += clock.get("collider", 0.0)
+        tcl = clock.get("cloth", 0.0)
         rec = f - n_pre
         if rec >= 0:
             t_col += tc
