@@ -43,6 +43,7 @@ from catwalk.simulate.settings import PRESETS, Settings
 
 CHUNK = 1.0 / 30.0
 SETTLE_AIR = 3.0   # 1/s of extra air drag while the garment settles (terminal speed g/3)
+ORDER_TOLERANCE = 0.05   # recompute the strain-limit order when 5 % of the contacts changed
 
 
 class Cancelled(CatwalkError):
@@ -237,7 +238,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
     w = settings.sew_omega
     solver = Solver(model, settings.method, gravity=(0.0, 0.0, 0.0), sewing=True,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med, extra_air=2.0,
-                    held_fixed=False)
+                    held_fixed=False, order_tolerance=ORDER_TOLERANCE)
     x0 = state.positions.copy()
     push_out(solver, model, state, collider, x0)
 
@@ -282,6 +283,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
 
     def settle_solver(m):
         return Solver(m, settings.method, extra_air=SETTLE_AIR, held_fixed=False,
+                      order_tolerance=ORDER_TOLERANCE,
                       sewing=len(m.seam_a) > 0, seam_stiffness=w * w * m_med,
                       seam_damping=2.0 * w * m_med)
 

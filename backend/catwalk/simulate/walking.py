@@ -30,6 +30,7 @@ from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.collide import make_collider
 from catwalk.motion.skinning import body_frames
 from catwalk.simulate.dressing import (
+    ORDER_TOLERANCE,
     Cancelled,
     Dressed,
     _never,
@@ -111,6 +112,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     m_med = float(np.median(dressed.cloth.model.mass))
     w = settings.sew_omega
     solver = Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
+                    order_tolerance=ORDER_TOLERANCE,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
     seam_gap = 0.0
     surface = BodySurface(body.faces, len(body.vertices)) if measure else None
