@@ -38,6 +38,26 @@ def load_recipes(path: Path = RECIPES) -> list[dict]:
         raise InputError(f"{path}: not a readable recipe file ({exc})") from exc
 
 
+def sample_body(name: str, out_dir: Path | None = None):
+    """The sample body ``name`` (a recipe in bodies/recipes.json, e.g. ``female-M``), made once
+    and kept in ``bodies/generated/`` (git-ignored) for the next call."""
+    from catwalk.body.make import make_body
+    from catwalk.export.gltf import read_body, write_glb
+
+    out = Path(out_dir) if out_dir is not None else RECIPES.parent / "generated"
+    path = out / f"{name}.glb"
+    if path.is_file():
+        return read_body(path)
+    recipe = next((r for r in load_recipes() if r["name"] == name), None)
+    if recipe is None:
+        raise InputError(f"no sample body named {name!r} in {RECIPES}")
+    body = make_body(sex=recipe["sex"], height=recipe["height"], bust=recipe.get("bust"),
+                     waist=recipe.get("waist"), hips=recipe.get("hips"),
+                     underbust=recipe.get("underbust"))
+    write_glb(path, body)
+    return read_body(path)
+
+
 def _build(args) -> int:
     from catwalk.body.make import make_body
     from catwalk.export.gltf import write_glb

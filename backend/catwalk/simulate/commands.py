@@ -204,7 +204,29 @@ def _bench_paper(args) -> int:
     return main(args)
 
 
+def _bench_dress(args) -> int:
+    from catwalk.bench.dress import main
+
+    return main(args)
+
+
 def register(top, groups) -> None:
+    from catwalk.simulate.settings import PRESETS
+
+    p = groups["bench"].add_parser(
+        "dress", help="every catalogue garment in every size dressed on its sample body: "
+        "seconds, converged, seam gap, penetration, strain",
+        description="Dress each catalogue garment, in each size, on the sample body that size "
+        "was made for (made once into bodies/generated/), and report time and errors.")
+    p.add_argument("--garments", nargs="+", help="only these catalogue garments (file stems)")
+    p.add_argument("--sizes", nargs="+", help="only these sizes")
+    p.add_argument("--preset", default="balanced", choices=list(PRESETS))
+    p.add_argument("--h", type=float, help="grid spacing (m) instead of the preset's")
+    p.add_argument("--png-dir", help="also render each dressed garment (front, side, back) "
+                   "into DIR/<garment>-<size>.png")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_bench_dress)
+
     p = groups["bench"].add_parser(
         "paper", help="the seed's table side by side: sewing the dress, walking it with the "
         "image-space and hybrid colliders (with penetration and strain)",

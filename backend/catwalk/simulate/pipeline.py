@@ -74,9 +74,11 @@ def run_tryon(body, garment, motion: Motion | None, *, size: str | None = None, 
             "max_strain": ws["max_strain"], "p99_strain": ws["p99_strain"],
             "max_seam_gap_mm": max(1e3 * ds["seam_gap_m"], ws["max_seam_gap_mm"]),
             "nan": bool(ws["nan"]), "exploded": bool(ws["exploded"]),
+            "slowed_points": ws["slowed_points"] + ds["slowed_points"],
         })
     else:
-        metrics.update({"max_strain": ds["max_strain"], "nan": False, "exploded": False})
+        metrics.update({"max_strain": ds["max_strain"], "nan": False, "exploded": False,
+                        "slowed_points": ds["slowed_points"]})
     for k, v in list(metrics.items()):
         if isinstance(v, float) and not math.isfinite(v):
             metrics[k] = None

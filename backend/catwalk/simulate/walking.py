@@ -115,6 +115,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                     order_tolerance=ORDER_TOLERANCE,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
     seam_gap = 0.0
+    slowed = 0
     surface = BodySurface(body.faces, len(body.vertices)) if measure else None
     nf = motion.frames
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
@@ -147,6 +148,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                                       f"s): {exc}") from None
         tc += clock.get("collider", 0.0)
         tcl = clock.get("cloth", 0.0)
+        slowed += clock.get("slowed", 0)
         rec = f - n_pre
         if rec >= 0:
             t_col += tc
@@ -181,6 +183,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         "p99_strain": float(max(strains99)) if strains99 else 0.0,
         "max_seam_gap_mm": 1e3 * seam_gap, "open_seam_pairs": int(len(model.seam_a)),
         "exploded": False, "nan": False,   # either aborts the walk with ClothExplosionError
+        "slowed_points": int(slowed),
     }
     if surface is not None and pen_max:
         stats["max_penetration_mm"] = 1e3 * max(pen_max)

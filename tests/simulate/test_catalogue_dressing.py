@@ -1,0 +1,55 @@
+"""Catalogue garments sew onto a body (small scenes: the fast preset, h = 2.5 cm, size S on
+the MakeHuman base body of the garment's sex). The full catalogue on the sample bodies, at the
+default preset, is `catwalk bench dress` (docs/tryon.md)."""
+
+import numpy as np
+import pytest
+
+from catwalk.garment.model import load_garment
+from catwalk.simulate import dress, preset
+from catwalk.simulate.metrics import BodySurface, penetration
+from catwalk.simulate.walking import strain_of
+
+
+@pytest.fixture(scope="module")
+def male_body():
+    from catwalk.body.rig import measured_base_body
+
+    return measured_base_body(1.0)
+
+
+@pytest.mark.parametrize("name", [
+    "dress", "pencil-skirt",
+    pytest.param("trousers", marks=pytest.mark.xfail(
+        reason="known: the base male body is between sizes; S is tight over the hips (denim "
+               "τ = 3 %: 2 % of springs over it, not settled), M slides to the floor",
+        strict=False)),
+    pytest.param("tshirt", marks=pytest.mark.xfail(
+        reason="known: on the small base body a few sleeve points are pulled through the arm "
+               "while sewing (≈ 3 cm deep) or an armhole stays open; on the sample bodies it "
+               "dresses (catwalk bench dress)", strict=False)),
+])
+def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
+    g = load_garment(repo_root / "garments" / f"{name}.json")
+    body = male_body if g.fit.get("M", "").startswith("male") else dressable_body
+    d = dress(body, g, "S", settings=preset("fast"))
+    st = d.stats
+    # every seam welded (a welded pair is one particle: its gap is 0)
+    assert st["open_seam_pairs"] == 0 and st["seam_gap_m"] == 0.0
+    assert st["seam_gap_start_m"] > 0.04          # the pieces really started apart
+    x = d.state.positions
+    pen = penetration(BodySurface(body.faces, len(body.vertices)), body.vertices, x)
+    assert pen.max() <= 0.002
+    e = strain_of(d.model, x)
+    tau = d.model.tau
+    # strain at the fabric's limit almost everywhere; where the body pushes cloth out against
+    # two held ends (a tight shoulder, a dart's top) a few springs stay over it
+    assert np.percentile(e, 99) <= tau + 0.01
+    assert np.mean(e > tau + 0.01) < 0.01
+    # the garment hangs where it belongs
+    y = x[:, 1]
+    lm = body.landmarks
+    if name in ("dress", "tshirt"):
+        assert y.max() > lm["shoulder_left"][1] - 0.05 and y.min() < lm["waist"][1]
+    else:
+        assert lm["crotch"][1] < y.max() < lm["bust"][1]
