@@ -30,6 +30,11 @@ seen from outside the garment, +v up):
 - one leg (``left_leg``/``right_leg``), wrapped: the tube follows the leg from
   ``leg_root_<side>`` (the hip joint, for a rigged body) through the knee to the ankle when
   those landmarks exist (a vertical cylinder through the knee otherwise);
+- a panel with an explicit ``transform`` (placed on another body, e.g. GarmentCode's) that is
+  a wrapped torso or legs panel keeps only where it sits across the body: the pattern point
+  on the body's centre line (world x = 0 under its transform) on its top edge becomes its
+  anchor point, and it is then placed on this body like any other; other such panels are
+  placed flat by the transform as given;
 - ``wrap``: torso and legs panels bend round a vertical cylinder (for the torso centred, front
   to back, at the armpits' depth, so front and back panels meet under the arms) of the part's
   radius +
@@ -127,13 +132,23 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
         else:
             a_uv = np.array([0.5 * (lo[0] + hi[0]), hi[1]])
         offset = np.asarray(pl.offset, float)
+        part = pl.part
         if pl.transform is not None:   # an explicit 3D placement (e.g. from GarmentCode)
             r = np.asarray(pl.transform["rotation"], float)
-            t = np.asarray(pl.transform["translation"], float) + offset
-            m = np.concatenate([r[:, :2], t[:, None]], axis=1)
-            out.append(PanelPlacement(piece.name, m, None, _flat(m, a_uv, 0.0)))
-            continue
-        part = pl.part
+            t = np.asarray(pl.transform["translation"], float)
+            centre_u = _centre_line_u(r, t, lo, hi)
+            if not (pl.wrap and part in ("torso", "legs") and centre_u is not None):
+                m = np.concatenate([r[:, :2], (t + offset)[:, None]], axis=1)
+                out.append(PanelPlacement(piece.name, m, None, _flat(m, a_uv, 0.0)))
+                continue
+            # made on another body: keep where the panel sits across the body (its u on the
+            # centre line), and hang it from this body's landmarks like any torso/legs panel
+            a_uv = np.array([centre_u, hi[1]])
+            # the other body's panels may run their u the other way round than ours (a back
+            # panel seen from the front): keep their orientation, or seams would cross sides
+            flip_u = bool(np.sign(r[0, 0]) != np.sign(_frame(part, pl.side)[0][0]))
+        else:
+            flip_u = False
         if pl.anchor:
             anchor_name = pl.anchor
         elif part == "torso":
@@ -170,6 +185,8 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
             radius = (hi[0] - lo[0]) / (2 * math.pi) if pl.wrap else ARM_RADIUS + pl.distance
         else:
             e_u, e_v, n = _frame(part, pl.side)
+            if flip_u:
+                e_u = -e_u
             d = np.array([0.0, 1.0, 0.0])
             cz = axis_xz[1]
             if part == "torso":
@@ -210,6 +227,16 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
                 to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation)
         out.append(PanelPlacement(piece.name, m, cyl, to_world))
     return out
+
+
+def _centre_line_u(r: np.ndarray, t: np.ndarray, lo: np.ndarray, hi: np.ndarray):
+    """The pattern u at which an explicitly placed panel crosses the body's centre line
+    (world x = 0), for a panel whose u runs along ±world x; None otherwise."""
+    ux = r[0, 0]
+    if abs(ux) < 0.9 or abs(r[0, 1]) > 0.1:
+        return None
+    u = -t[0] / ux
+    return float(np.clip(u, lo[0], hi[0]))
 
 
 def _rotate(uv: np.ndarray, a_uv: np.ndarray, degrees: float) -> np.ndarray:
