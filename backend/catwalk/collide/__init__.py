@@ -51,8 +51,12 @@ Method:
   ``catwalk bench collide``): parts whose swept, dilated box cannot reach the cloth's box get no
   refit and no queries; depth maps are not re-rendered when the mapped parts did not move; points
   outside every part's box skip the narrow phase; a point's closest triangle is reused while it
-  moved less than ``reuse_tol`` relative to that triangle; a point known to be clear of the
-  body is not searched again until its (and the body's) motion could have closed the gap.
+  moved less than ``reuse_tol`` relative to that triangle and no other part came nearer
+  (checked every time); a point known to be clear of the body is not searched again until its
+  (and the body's) motion could have closed the gap. A point's motion is measured from where
+  the collider last saw it (whatever moved it since: solver, position correction, anything),
+  not from ``previous_positions``, so the skips hold for any motion of the body and the points
+  (docs/collide.md, "What the skips rest on").
 
 Kernels are ``@numba.njit(cache=True, _nrt=False)`` over flat arrays (numba's runtime off: no
 reference counting of array arguments on every call; they never allocate — workspaces come from

@@ -730,3 +730,33 @@ def depth_of(h: Hierarchy, part: int) -> int:
 
 # a depth-first walk holds at most one sibling per level plus two: 2·max_depth + 2 < 128
 STACK_SIZE = 128
+
+
+@numba.njit(cache=True, _nrt=False)
+def swept_lower(px, py, pz, a, rx, ry, rz, nb, links, root, bound2, stack):
+    """A lower bound, for the whole frame and in the frame moving by the reference
+    displacement (rx, ry, rz) (p given at time ``a`` in world coordinates, as
+    :func:`swept_box_d2`), of the squared distance from p to every triangle of one part's
+    hierarchy: the nearest leaf box swept over the frame, or ``bound2`` if none is nearer
+    (nodes are pruned there). No triangle is tested. Returns (bound, nodes visited)."""
+    stack[0] = root
+    sp = 1
+    visited = 0
+    best = bound2
+    while sp > 0:
+        sp -= 1
+        nd = stack[sp]
+        visited += 1
+        d = swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd)
+        if d >= best:
+            continue
+        if links[nd, 0] < 0:
+            best = d
+            continue
+        if sp + 2 > stack.shape[0]:
+            best = 0.0  # (never: the stack holds 2 × the depth limit)
+            continue
+        stack[sp] = links[nd, 0]
+        stack[sp + 1] = links[nd, 1]
+        sp += 2
+    return best, visited

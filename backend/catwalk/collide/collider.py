@@ -192,7 +192,6 @@ class Collider:
         self._part_vidx = {p: np.unique(self.faces[f]) for p, f in self._part_faces.items()}
         self._active_last = np.zeros(N_PARTS, bool)
         self._clear_frame = -1
-        self._no_clear = np.zeros(0)
         self._tree_vidx = np.unique(self.faces[np.nonzero(self.tree_parts[self.face_part])[0]])
         # workspaces for the kernels (they run without numba's runtime, so never allocate)
         self._stack = np.empty(B.STACK_SIZE, np.int64)
@@ -201,6 +200,11 @@ class Collider:
         self._vp = np.zeros((self.n_vertices, 6), np.float32)
         self._ref = np.zeros(3)      # the body's mean displacement over the frame
         self._body_speed = 0.0       # the farthest a tree vertex moves relative to it
+        # clocks at the start of this frame: the moving frame's travel (3), the body's travel
+        # relative to it (an upper bound: the sum of the frames' body speeds); with the time
+        # (frame + alpha) the object pass measures each point's motion since it last saw it
+        self._clock0 = np.zeros(4)
+        self._clock = np.zeros(5)
         self._packed_frame = -1
         self._nb = None              # node boxes at the previous and the current frame
         self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
@@ -258,6 +262,10 @@ class Collider:
             self._n_valid = [self._n_valid[1], False]
             self.v1[:] = v
             self.w1[:] = w
+        if not first and self.tree is not None:
+            # the previous frame is over (whatever alpha its last resolve had)
+            self._clock0[:3] += self._ref
+            self._clock0[3] += self._body_speed
         self._frame += 1
         self._calls_last_frame = self._calls if not first else 0
         self._calls = 0
@@ -272,6 +280,9 @@ class Collider:
             self.tree = B.build(v, self.faces, self._part_faces, self.leaf_size)
             self._lv_start, self._lv = B.leaf_vertices(self.tree, self.faces)
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
+        if self.tree is not None:
+            # the frame's motion, for the clocks (packing, later, finds the same values)
+            self._body_speed = K.body_motion(self.v0, self.v1, self._tree_vidx, self._ref)
         if self.maps is not None:
             self._torso_lo[:] = np.inf
             self._torso_hi[:] = -np.inf
@@ -414,8 +425,10 @@ class Collider:
         if prev.shape != pos.shape:
             raise CatwalkError("previous positions differ in shape from positions")
         n = len(pos)
-        self._calls += 1
         if alpha is None:
+            # only the counted calls count: an explicit alpha (the walk's end-of-frame
+            # resolve) does not shift the substeps after it nor the next frame's count
+            self._calls += 1
             alpha = 1.0 if not self._substeps else min(self._calls / self._substeps, 1.0)
         alpha = float(alpha)
         if not 0.0 <= alpha <= 1.0:
@@ -488,9 +501,21 @@ class Collider:
             self._pspeed = np.zeros(n)
             self._pstamp = np.full(n, -1, np.int64)
             self._rec = np.zeros((n, 54), np.float32)
+            self._last = np.zeros((n, 3))
+            self._left = np.zeros((n, 3))
+            self._pclk = np.full((n, 5), -1.0)   # time < 0: never seen
+            self._csw = np.zeros((n, N_PARTS))
+            self._crel = np.zeros(n)
+            self._cstamp = np.full(n, -1, np.int64)
+            self._ct2 = np.full(n, -1, np.int64)
+            self._cp2 = np.zeros((n, 3))
+            self._cc2 = np.zeros((n, 3))
             self._cache_n = n
         if np.any(active & ~self._active_last):
-            self._clear_rel[:] = 0.0  # a part came into play: no clearance bounds it
+            # a part came into play: no clearance bounds it
+            self._clear_rel[:] = 0.0
+            self._cstamp[:] = -1
+            self._ct2[:] = -1
         if self._clear_frame != self._frame or np.any(active & ~self._active_last):
             # clearances hold against this frame's swept boxes of the parts then in play
             self._clear[:] = 0.0
@@ -498,6 +523,10 @@ class Collider:
         self._active_last = active.copy()
         self._pack()
         h = self.tree
+        ck = self._clock
+        ck[:3] = self._clock0[:3] + alpha * self._ref
+        ck[3] = self._clock0[3] + alpha * self._body_speed
+        ck[4] = self._frame + alpha
         t = _clock()
         K.object_pass(pos, vel, prev, alpha, alpha_prev, self._ref, self._vb, self._vp,
                       self.faces, self.face_part, self._nb, h.links, h.tris,
@@ -508,7 +537,9 @@ class Collider:
                       self._cache_tri, self._cache_p, self._cache_c, self._clear,
                       self._clear_rel, held, self.stats, self._stack, self._reach_work,
                       self._frame, self._rkey, self._rec, self._pspeed, self._pstamp,
-                      self._spd)
+                      self._spd, self._last, self._pclk, ck, self._csw, self._crel,
+                      self._cstamp, self.search_radius, self._ct2, self._cp2, self._cc2,
+                      self._left)
         self.timings.object_queries += _clock() - t
 
     def _image(self, pos, vel, alpha, lo, hi, held):
@@ -528,13 +559,8 @@ class Collider:
         K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
                      self._torso_lo, self._torso_hi, self.thickness, self.friction,
                      self.contact_slack, self.min_normal_z, self.skips.far_points, held,
-                     self.stats, self._pkey, self._pdep, self._patt, *self._clearances(n))
+                     self.stats, self._pkey, self._pdep, self._patt)
         self.timings.image_queries += _clock() - t
-
-    def _clearances(self, n):
-        if self.tree is not None and self._cache_n == n:
-            return self._clear, self._clear_rel
-        return self._no_clear, self._no_clear
 
     # ------------------------------------------------------------------ reports
     def reset_stats(self) -> None:

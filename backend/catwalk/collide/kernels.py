@@ -22,6 +22,7 @@ from catwalk.collide.bvh import (
     closest_on_triangle,
     closest_triangle_t,
     swept_box_d2,
+    swept_lower,
 )
 
 ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS = range(8)
@@ -198,36 +199,91 @@ def _signed_rec(px, py, pz, rec, i, alpha):
 
 
 @numba.njit(cache=True, _nrt=False)
+def body_motion(v0, v1, idx, ref):
+    """The body's motion over a frame, as :func:`pack_body` measures it (without packing):
+    ``ref`` (3,) gets the mean displacement over all vertices; returns the farthest any
+    vertex ``idx`` moves relative to it (2-norm)."""
+    n = v0.shape[0]
+    rx = 0.0
+    ry = 0.0
+    rz = 0.0
+    for i in range(n):
+        rx += v1[i, 0] - v0[i, 0]
+        ry += v1[i, 1] - v0[i, 1]
+        rz += v1[i, 2] - v0[i, 2]
+    if n > 0:
+        rx /= n
+        ry /= n
+        rz /= n
+    ref[0] = rx
+    ref[1] = ry
+    ref[2] = rz
+    best = 0.0
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        dx = v1[i, 0] - v0[i, 0] - rx
+        dy = v1[i, 1] - v0[i, 1] - ry
+        dz = v1[i, 2] - v0[i, 2] - rz
+        d = dx * dx + dy * dy + dz * dz
+        if d > best:
+            best = d
+    return math.sqrt(best)
+
+
+@numba.njit(cache=True, _nrt=False)
 def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part,
                 nb, links, tris, roots, part_active, cloth_lo, cloth_hi, thickness, friction,
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
-                reach, frame, rkey, rec, pspeed, pstamp, spd):
+                reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
+                cstamp, cert_reach, ct2, cp2, cc2, left):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
     current frame; at time ``alpha`` a node's box is their blend. Clearances are measured in
-    the frame that moves with ``ref`` (the body's mean displacement over the frame: the
-    walk), so that the body's and the cloth's common motion does not use them up.
+    the frame that moves with the body's mean displacement (``ref`` over this frame), so
+    that the body's and the cloth's common motion does not use them up.
+
+    What a point's skips rest on is how far it and the body moved since the point was last
+    seen here, whatever moved it in between (the solver, a position correction, the image
+    pass): ``last`` (P,3) its position then, ``pclk`` (P,5) the collider's clocks then —
+    the moving frame's travel (0–2) and the body's (3: an upper bound of how far any limb
+    vertex moved relative to it), and the time (4: frame + alpha; < 0: never seen). ``clock``
+    (5,) the same clocks now. A point's motion in the moving frame is then
+    |p − last − (travel now − travel then)|, the body's is the difference of the body
+    clocks (or ``pspeed`` × the time since, within the frame of the point's last search).
 
     Per point: (1) clearance: while ``clear[i]`` (how much closer the point may come to the
     boxes swept by the body's leaves over this frame, in the moving frame; reset every
-    frame) stays positive after subtracting the point's motion in the moving frame, or
-    ``clear_rel[i]`` (how much closer it may come to the body as it was at the last search)
-    stays positive after subtracting that motion and ``body_speed`` × the substep's share of
-    the frame (the farthest any active part's vertex moves relative to ``ref`` in a frame),
-    nothing else is done; (2) the cached closest triangle is reused while the point moved
-    less than ``reuse_tol`` relative to it; (3) else the hierarchies are searched within
-    ``search_radius`` + the point's motion; (4) signed distance to the closest triangle,
-    collision and response.
+    frame) stays positive after subtracting the point's motion, or ``clear_rel[i]`` (how
+    much closer it may come to the body as it was at the last search) stays positive after
+    subtracting that motion and the body's, nothing else is done; (2) the cached closest
+    triangle is reused while the point moved less than ``reuse_tol`` relative to it and no
+    *other* part has a triangle nearer to the point than it — another part coming close (a
+    hand swinging over a thigh) is always seen. Per other part, ``csw[i, k]`` bounds how
+    near it comes over frame ``cstamp[i]`` (in the moving frame: its leaf boxes swept over
+    the frame, looked for within the triangle's distance + ``cert_reach``), less
+    ``crel[i]``, the point's motion since; a part beyond the triangle's distance by that is
+    out of the question. One part that is not: its nearest triangle to the point ``ct2[i]``
+    is kept (with the point ``cp2`` and the triangle's centroid ``cc2`` then) and compared
+    with the closest triangle, reused like it while the point moves less than
+    ``reuse_tol`` relative to it (parts that touch, like the torso and a thigh in ``object``
+    mode, meet along a seam: points there have the other part always near); else those
+    parts' hierarchies are searched at this substep; (3) else the hierarchies are searched
+    within ``search_radius`` + the point's motion; (4) signed distance to the closest
+    triangle, collision and response. A point deeper than ``max_depth`` collides only if
+    its last position, at its time, was outside.
 
     ``rkey`` (P,) int64 and ``rec`` (P,54) float32: each point's copy of its closest
     triangle's vertices for this ``frame`` (see :func:`_fill_record`), read in point order
     while the triangle is reused, instead of the scattered vertices. ``pspeed``/``pstamp``
-    (P,): a speed bound for ``clear_rel`` found by the point's last search in frame
-    ``pstamp`` (the nodes near it move slower than the fastest vertex): how fast the
-    body's triangles can approach it during the rest of that frame; in another frame,
-    ``body_speed``. ``spd`` (2,) workspace."""
+    (P,): a speed bound for ``clear_rel`` found by the point's last search in
+    frame ``pstamp`` (the nodes near it move slower than the fastest vertex): how fast the
+    body's triangles can approach it during the rest of that frame; in another frame, the
+    body clock. ``spd`` (2,): workspace.
+    ``left`` (P,3): where the point was left then, after any push (the crossing test's last
+    position). ``prev``/``alpha_prev``: the previous positions and time, used for a point
+    never seen."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -244,43 +300,77 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
         reach[k] = ok or not skip_far
         any_part = any_part or reach[k]
     if not any_part:
+        # nothing is seen: the points' clocks stay where they were, so their next motion
+        # counts everything since
         stats[ST_SKIPPED] += pos.shape[0]
         return
     touch = thickness + slack
     b = 1.0 - alpha
-    da = max(alpha - alpha_prev, 0.0)
     rx = ref[0]
     ry = ref[1]
     rz = ref[2]
-    body_step = body_speed * da
     rest = 1.0 - alpha
     inv_t = 1.0 / rest if rest > 1e-9 else 0.0
+    tnow = clock[4]
     for i in range(pos.shape[0]):
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
+        ti = pclk[i, 4]
+        if ti >= 0.0:
+            # since the point was last seen: its motion in the moving frame, the body's
+            ex = px - last[i, 0] - (clock[0] - pclk[i, 0])
+            ey = py - last[i, 1] - (clock[1] - pclk[i, 1])
+            ez = pz - last[i, 2] - (clock[2] - pclk[i, 2])
+            rel = math.sqrt(ex * ex + ey * ey + ez * ez)
+            btrav = abs(clock[3] - pclk[i, 3])
+            same = ti >= frame and tnow >= ti  # seen earlier in this frame
+            bstep = pspeed[i] * (tnow - ti) if same and pstamp[i] == frame else btrav
+            qx = left[i, 0]
+            qy = left[i, 1]
+            qz = left[i, 2]
+            qa = min(max(ti - frame, 0.0), alpha)
+            dx = px - qx
+            dy = py - qy
+            dz = pz - qz
+            move = math.sqrt(dx * dx + dy * dy + dz * dz)
+        else:
+            rel = np.inf
+            bstep = np.inf
+            qx = prev[i, 0]
+            qy = prev[i, 1]
+            qz = prev[i, 2]
+            qa = alpha_prev
+            move = 0.0
         dx = px - prev[i, 0]
         dy = py - prev[i, 1]
         dz = pz - prev[i, 2]
+        move = max(move, math.sqrt(dx * dx + dy * dy + dz * dz))
+        # seen now (before any push: a push counts as motion the next time)
+        last[i, 0] = px
+        last[i, 1] = py
+        last[i, 2] = pz
+        left[i, 0] = px
+        left[i, 1] = py
+        left[i, 2] = pz
+        for q in range(5):
+            pclk[i, q] = clock[q]
+        crel[i] += rel  # the point's motion since the other parts' bounds were taken
         if use_clear:
-            ex = dx - da * rx
-            ey = dy - da * ry
-            ez = dz - da * rz
-            rel = math.sqrt(ex * ex + ey * ey + ez * ez)
             c1 = clear[i] - rel
-            c2 = clear_rel[i] - rel - (pspeed[i] * da if pstamp[i] == frame else body_step)
+            c2 = clear_rel[i] - rel - bstep
             clear[i] = c1
             clear_rel[i] = c2
             if c1 > 0.0 or c2 > 0.0:
                 stats[ST_CLEAR] += 1
                 continue
-        move = math.sqrt(dx * dx + dy * dy + dz * dz)
         r = search_radius + move
         best_d2 = r * r if skip_far else np.inf
         best_t = -1
         seed = -1
         searched = False
-        # reuse the closest triangle if the point barely moved relative to it
+        # reuse the closest triangle if the point barely moved relative to it and no other
+        # part came nearer
         t = cache_tri[i] if use_cache else -1
         if t >= 0 and part_active[face_part[t]]:
             if rkey[i] != fkey | t:
@@ -295,35 +385,125 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
             ex = (px - cache_p[i, 0]) - (gx - cache_c[i, 0])
             ey = (py - cache_p[i, 1]) - (gy - cache_c[i, 1])
             ez = (pz - cache_p[i, 2]) - (gz - cache_c[i, 2])
-            if ex * ex + ey * ey + ez * ez < reuse_tol * reuse_tol:
+            near = ex * ex + ey * ey + ez * ez < reuse_tol * reuse_tol
+            k = 1.0 - alpha
+            ax = k * rec[i, 0] + alpha * rec[i, 3]
+            ay = k * rec[i, 1] + alpha * rec[i, 4]
+            az = k * rec[i, 2] + alpha * rec[i, 5]
+            bx = k * rec[i, 18] + alpha * rec[i, 21]
+            by = k * rec[i, 19] + alpha * rec[i, 22]
+            bz = k * rec[i, 20] + alpha * rec[i, 23]
+            cx = k * rec[i, 36] + alpha * rec[i, 39]
+            cy = k * rec[i, 37] + alpha * rec[i, 40]
+            cz = k * rec[i, 38] + alpha * rec[i, 41]
+            v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+            qx_ = ax + v * (bx - ax) + w * (cx - ax) - px
+            qy_ = ay + v * (by - ay) + w * (cy - ay) - py
+            qz_ = az + v * (bz - az) + w * (cz - az) - pz
+            d2 = qx_ * qx_ + qy_ * qy_ + qz_ * qz_
+            if near and d2 > reuse_tol * reuse_tol and \
+                    ((by - ay) * (cz - az) - (bz - az) * (cy - ay)) * qx_ + \
+                    ((bz - az) * (cx - ax) - (bx - ax) * (cz - az)) * qy_ + \
+                    ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) * qz_ > 0.0:
+                # inside, deeper than reuse_tol: the push is long, and a neighbour's normal
+                # would send it elsewhere: search for the closest triangle itself
+                near = False
+            if near:
+                # another part nearer than this triangle (say a hand come over the thigh
+                # the point rests on) makes the answer another
+                kt = face_part[t]
+                dt_ = math.sqrt(d2)
+                if cstamp[i] != frame:
+                    # how near the other parts come over this frame (moving frame)
+                    ro = dt_ + cert_reach
+                    for k2 in range(n_parts):
+                        csw[i, k2] = np.inf
+                        if k2 != kt and part_active[k2]:
+                            bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links,
+                                                 roots[k2], ro * ro, stack)
+                            csw[i, k2] = math.sqrt(bo)
+                            stats[ST_NODES] += nv
+                    crel[i] = 0.0
+                    cstamp[i] = frame
+                kn = -1
+                nn = 0
+                for k2 in range(n_parts):
+                    if k2 != kt and part_active[k2] and csw[i, k2] - crel[i] <= dt_:
+                        kn = k2
+                        nn += 1
+                t2 = ct2[i]
+                if nn == 1 and t2 >= 0 and face_part[t2] == kn:
+                    # the other part's nearest triangle, kept while the point moved little
+                    # relative to it
+                    ia = faces[t2, 0]
+                    ib = faces[t2, 1]
+                    ic = faces[t2, 2]
+                    ax = k * vp[ia, 0] + alpha * vp[ia, 3]
+                    ay = k * vp[ia, 1] + alpha * vp[ia, 4]
+                    az = k * vp[ia, 2] + alpha * vp[ia, 5]
+                    bx = k * vp[ib, 0] + alpha * vp[ib, 3]
+                    by = k * vp[ib, 1] + alpha * vp[ib, 4]
+                    bz = k * vp[ib, 2] + alpha * vp[ib, 5]
+                    cx = k * vp[ic, 0] + alpha * vp[ic, 3]
+                    cy = k * vp[ic, 1] + alpha * vp[ic, 4]
+                    cz = k * vp[ic, 2] + alpha * vp[ic, 5]
+                    ex = (px - cp2[i, 0]) - ((ax + bx + cx) / 3.0 - cc2[i, 0])
+                    ey = (py - cp2[i, 1]) - ((ay + by + cy) / 3.0 - cc2[i, 1])
+                    ez = (pz - cp2[i, 2]) - ((az + bz + cz) / 3.0 - cc2[i, 2])
+                    if ex * ex + ey * ey + ez * ez < reuse_tol * reuse_tol:
+                        v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy,
+                                                   cz)
+                        qx_ = ax + v * (bx - ax) + w * (cx - ax) - px
+                        qy_ = ay + v * (by - ay) + w * (cy - ay) - py
+                        qz_ = az + v * (bz - az) + w * (cz - az) - pz
+                        if qx_ * qx_ + qy_ * qy_ + qz_ * qz_ < d2:
+                            near = False
+                        nn = 0  # decided
+                if nn > 0:
+                    # look, at this substep: each such part's nearest triangle (kept when
+                    # there is one such part)
+                    ro = dt_ + cert_reach
+                    for k2 in range(n_parts):
+                        if k2 == kt or not part_active[k2] or csw[i, k2] - crel[i] > dt_:
+                            continue
+                        rt = roots[k2]
+                        if nn > 1 and _lerp_box_d2(px, py, pz, nb, rt, alpha, b) >= d2:
+                            continue
+                        d2o, tk, nv, nt, _ = closest_triangle_t(
+                            px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, rt,
+                            d2 if nn > 1 else ro * ro, -1, stack, inv_t, spd)
+                        stats[ST_NODES] += nv
+                        stats[ST_TRIS] += nt
+                        if tk >= 0 and d2o < d2:
+                            near = False
+                        if nn == 1:
+                            ct2[i] = tk
+                            if tk >= 0:
+                                cp2[i, 0] = px
+                                cp2[i, 1] = py
+                                cp2[i, 2] = pz
+                                for q in range(3):
+                                    cc2[i, q] = (k * (vp[faces[tk, 0], q] + vp[faces[tk, 1], q]
+                                                      + vp[faces[tk, 2], q])
+                                                 + alpha * (vp[faces[tk, 0], 3 + q]
+                                                            + vp[faces[tk, 1], 3 + q]
+                                                            + vp[faces[tk, 2], 3 + q])) / 3.0
+            if near:
                 best_t = t
                 stats[ST_REUSED] += 1
-            else:
+            elif d2 < best_d2:
                 # the search below starts from this triangle's distance: it prunes more
-                k = 1.0 - alpha
-                ax = k * rec[i, 0] + alpha * rec[i, 3]
-                ay = k * rec[i, 1] + alpha * rec[i, 4]
-                az = k * rec[i, 2] + alpha * rec[i, 5]
-                bx = k * rec[i, 18] + alpha * rec[i, 21]
-                by = k * rec[i, 19] + alpha * rec[i, 22]
-                bz = k * rec[i, 20] + alpha * rec[i, 23]
-                cx = k * rec[i, 36] + alpha * rec[i, 39]
-                cy = k * rec[i, 37] + alpha * rec[i, 40]
-                cz = k * rec[i, 38] + alpha * rec[i, 41]
-                v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
-                qx = ax + v * (bx - ax) + w * (cx - ax) - px
-                qy = ay + v * (by - ay) + w * (cy - ay) - py
-                qz = az + v * (bz - az) + w * (cz - az) - pz
-                d2 = qx * qx + qy * qy + qz * qz
-                if d2 < best_d2:
-                    best_d2 = d2
-                    seed = t
+                best_d2 = d2
+                seed = t
         if best_t < 0:
             best_t = seed
+            cstamp[i] = -1  # the other parts than the closest triangle's: not known
+            ct2[i] = -1
             boxed = False
             spd[0] = 0.0
             spd[1] = 0.0
             lower = np.inf  # squared bound, over the frame, to every part's triangles
+            now = np.inf  # squared bound, now, to the parts not searched
             for k in range(n_parts):
                 if not part_active[k]:
                     continue
@@ -332,6 +512,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 if not reach[k] or (skip_far and dr >= best_d2):
                     lower = min(lower, swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, rt))
                     spd[0] = max(spd[0], nb[rt, 12] - math.sqrt(dr) * inv_t)
+                    now = min(now, dr)
                     continue
                 boxed = True
                 best_d2, best_t, nv, nt, ld2 = closest_triangle_t(
@@ -340,6 +521,8 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 lower = min(lower, ld2)
                 stats[ST_NODES] += nv
                 stats[ST_TRIS] += nt
+            # a part skipped as out of reach may be nearer than the search radius
+            best_d2 = min(best_d2, now)
             searched = True
             if boxed:
                 stats[ST_BOXED] += 1
@@ -378,9 +561,9 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 clear_rel[i] = math.sqrt(best_d2) - touch
             continue
         if s <= -max_depth:
-            # deep: a collision only if the point crossed the surface during this substep
-            sp, _, _, _, _, _ = _signed_rec(prev[i, 0], prev[i, 1], prev[i, 2], rec, i,
-                                            alpha_prev)
+            # deep: a collision only if the point crossed the surface since it was last
+            # seen (its position then, against the same triangle at its time)
+            sp, _, _, _, _, _ = _signed_rec(qx, qy, qz, rec, i, qa)
             if sp < 0.0:
                 continue
         held[i] = True
@@ -397,11 +580,16 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
         bvz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
             alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
         respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
+        # where it was left, for the crossing test (the bounds count the motion from where
+        # they hold, before the push: distances change no faster than the point moves)
+        left[i, 0] = pos[i, 0]
+        left[i, 1] = pos[i, 1]
+        left[i, 2] = pos[i, 2]
 
 
 @numba.njit(cache=True, _nrt=False)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
-               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, clear, clear_rel):
+               slack, min_nz, skip_far, held, stats, pkey, pdep, patt):
     """Image-space collision of every cloth point against front/back depth maps at time
     ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps.
 
@@ -416,8 +604,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     (P,16) float32 (the block's depths: pixel q, slot u, side k at 4u + 8k + q... see below),
     ``patt`` (P,12) float32 (normal and velocity, both slots). Read in order, one point after
     the other, they stay cheap where the maps' scattered pixels would miss the cache.
-    ``clear``/``clear_rel``: the object pass's clearances (empty when there is none),
-    reduced by every push made here."""
+    (The object pass's clearances count these pushes as the points' motion: it measures
+    each point's motion from where it last saw it.)"""
     h = D.shape[0]
     w = D.shape[1]
     cx = m[2, 0]
@@ -427,7 +615,6 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     vkey = version << 40
     akey = version << 30
     st = math.sqrt(1.0 - min_nz * min_nz)
-    has_clear = clear.shape[0] > 0
     n_skip = 0
     n_box = 0
     n_narrow = 0
@@ -595,10 +782,6 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         n_contact += 1
         if s < thickness:
             respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
-            if has_clear:
-                # the object pass's clearances did not see this push
-                clear[i] -= thickness - s
-                clear_rel[i] -= thickness - s
     stats[ST_SKIPPED] += n_skip
     stats[ST_BOXED] += n_box
     stats[ST_NARROW] += n_narrow
