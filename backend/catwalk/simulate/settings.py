@@ -23,7 +23,7 @@ class Settings:
     ``weld_reach`` are then welded, the others keep pulling while gravity settles the garment
     and are welded as they close to ``weld_gap``; a seam still open by more than
     ``max_open_gap`` at the end fails the dressing. Gravity settles the
-    garment for at most ``settle_seconds`` until the fastest point is slower than
+    garment for at most ``settle_seconds`` until the points' RMS speed is under
     ``settle_speed`` (m/s). ``blend_seconds``: the body's move from its rest pose into the
     walk's first pose before recording starts.
     """
@@ -47,7 +47,7 @@ class Settings:
     weld_reach: float = 0.01
     max_open_gap: float = 0.03
     settle_seconds: float = 2.0
-    settle_speed: float = 0.05
+    settle_speed: float = 0.02
     blend_seconds: float = 0.5
 
     def check(self) -> Settings:
@@ -85,7 +85,7 @@ PRESETS: dict[str, Settings] = {
     "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
                          min_collisions=40, max_collisions=120, thickness=0.003,
                          sew_collisions=40,
-                         sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.03),
+                         sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.015),
 }
 
 
