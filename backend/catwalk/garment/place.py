@@ -214,7 +214,8 @@ def place_panels(garment: Garment, landmarks: dict, size: str | None = None,
             wrist = landmarks.get(f"wrist_{side}")
             if elbow is not None and wrist is not None:   # follow the bent arm
                 axis = np.array([foot, elbow, wrist], float) + offset
-                to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation)
+                to_world = _wrapped_bent(a_uv, axis, n, float(radius), pl.rotation,
+                                         reach=float(a_uv[1] - lo[1]))
         elif cyl and part in ("left_leg", "right_leg"):
             side = "left" if part == "left_leg" else "right"
             root, knee = landmarks.get(f"leg_root_{side}"), landmarks.get(f"knee_{side}")
@@ -254,12 +255,21 @@ def _flat(m: np.ndarray, a_uv: np.ndarray, degrees: float):
     return to_world
 
 
-def _wrapped_bent(a_uv, axis: np.ndarray, n: np.ndarray, radius: float, degrees: float):
+def _wrapped_bent(a_uv, axis: np.ndarray, n: np.ndarray, radius: float, degrees: float,
+                  reach: float | None = None):
     """Wrap round a tube whose axis is a polyline (shoulder → elbow → wrist, extended at both
     ends): the anchor row sits at ``axis[0]``, +v runs back up the axis, arc length along u
-    is kept, and each segment carries the outward direction ``n`` made perpendicular to it."""
+    is kept, and each segment carries the outward direction ``n`` made perpendicular to it.
+    ``reach``: the panel's length below the anchor; a panel longer than the axis (a sleeve
+    longer than this arm) is gathered along it to end 3 cm short of the axis's end, instead of
+    starting round the hand or foot (the cloth starts compressed, which it takes without force
+    to speak of, and falls back to its length as it settles)."""
     seg = np.diff(axis, axis=0)
     length = np.linalg.norm(seg, axis=1)
+    total = float(length.sum())
+    gather = 1.0
+    if reach is not None and reach > total - 0.03 and total > 0.06:
+        gather = (total - 0.03) / reach
     t = seg / length[:, None]
     starts = np.concatenate([[0.0], np.cumsum(length)[:-1]])
     nk = n[None] - np.sum(n[None] * t, axis=1)[:, None] * t
@@ -268,7 +278,7 @@ def _wrapped_bent(a_uv, axis: np.ndarray, n: np.ndarray, radius: float, degrees:
 
     def to_world(uv: np.ndarray) -> np.ndarray:
         uv = _rotate(np.asarray(uv, float), a_uv, degrees)
-        s = a_uv[1] - uv[:, 1]                     # distance down the arm from the anchor row
+        s = (a_uv[1] - uv[:, 1]) * gather          # distance down the arm from the anchor row
         k = np.clip(np.searchsorted(starts, s, side="right") - 1, 0, len(t) - 1)
         on = axis[k] + (s - starts[k])[:, None] * t[k]
         phi = (uv[:, 0] - a_uv[0]) / radius
