@@ -97,3 +97,49 @@ def test_closest_on_triangle_regions():
         got = B.closest_on_triangle(*p, *a, *b, *c)
         q = a + got[0] * (b - a) + got[1] * (c - a)
         np.testing.assert_allclose(q, a + vv * (b - a) + ww * (c - a), atol=1e-12)
+
+
+def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
+    """The walk the object pass uses (two frames' node boxes blended, a leaf's triangles read
+    through their leaf-order vertex references) and its branch-free box distances."""
+    m, fp = _body()
+    arm = np.nonzero(fp == 1)[0]
+    h = B.build(m.rest, m.faces, {1: arm})
+    v0 = m.vertices(walk_pose(0.0))
+    v1 = m.vertices(walk_pose(0.1))
+    vp = np.hstack([v0, v1]).astype(np.float32)
+    lv_start, lv = B.leaf_vertices(h, m.faces)
+    nb = np.zeros((h.n_nodes, 16), np.float32)
+    a, e = h.root[1], h.end[1]
+    B.refit_frame(vp, 0, lv_start, lv, h.links, nb, a, e)
+    B.refit_frame(vp, 1, lv_start, lv, h.links, nb, a, e)
+    ref = np.zeros(3)
+    B.node_speeds(vp, ref, lv_start, lv, h.links, nb, a, e)
+    lf = np.ascontiguousarray(m.faces[h.tris], dtype=np.int32)
+    rng = np.random.default_rng(1)
+    stack = np.empty(B.STACK_SIZE, np.int64)
+    spd = np.zeros(2)
+    centre = v0[m.faces[arm]].reshape(-1, 3).mean(axis=0)
+    w = vp.astype(np.float64)
+    r = np.array([0.01, -0.02, 0.005])
+    for _ in range(60):
+        alpha = rng.random()
+        p = centre + rng.normal(0, 0.08, 3)
+        d2, t, nodes, tested, frame_d2 = B.closest_triangle_t(
+            *p, vp, lf, alpha, *r, nb, h.links, h.tris, h.root[1], np.inf, -1, stack, 1.0, spd)
+        bd2, bt = _brute(p, (1 - alpha) * w[:, :3] + alpha * w[:, 3:], m.faces, arm)
+        assert np.isclose(d2, bd2, rtol=1e-9, atol=1e-15) and t in set(arm)
+        assert tested < len(arm) / 3
+        for nd in rng.integers(a, e, 8):
+            b = nb[nd].astype(np.float64)
+            lo = (1 - alpha) * b[0:3] + alpha * b[6:9]
+            hi = (1 - alpha) * b[3:6] + alpha * b[9:12]
+            want = np.sum(np.maximum(np.maximum(lo - p, p - hi), 0.0) ** 2)
+            assert np.isclose(B._lerp_box_d2(*p, nb, nd, alpha, 1 - alpha), want,
+                              rtol=1e-12, atol=1e-18)
+            c = p - alpha * r
+            lo = np.minimum(b[0:3], b[6:9] - r)
+            hi = np.maximum(b[3:6], b[9:12] - r)
+            want = np.sum(np.maximum(np.maximum(lo - c, c - hi), 0.0) ** 2)
+            assert np.isclose(B.swept_box_d2(*p, alpha, *r, nb, nd), want, rtol=1e-12,
+                              atol=1e-18)

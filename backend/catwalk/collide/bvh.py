@@ -563,18 +563,12 @@ def refit_frame(vp, col, lv_start, lv, links, nb, first, last):
 @numba.njit(cache=True, _nrt=False, inline="always")
 def _lerp_box_d2(px, py, pz, nb, nd, a, b):
     """Squared distance from p to node nd's box at time a (the blend of its two frames'
-    boxes, which holds every triangle of the node at that time)."""
-    d = 0.0
-    for q in range(3):
-        c = px if q == 0 else (py if q == 1 else pz)
-        x = b * nb[nd, q] + a * nb[nd, 6 + q] - c
-        if x > 0.0:
-            d += x * x
-        else:
-            x = c - (b * nb[nd, 3 + q] + a * nb[nd, 9 + q])
-            if x > 0.0:
-                d += x * x
-    return d
+    boxes, which holds every triangle of the node at that time). Branch-free (max/min
+    selects): the walks' box tests are otherwise bound by mispredicted branches."""
+    x = max(max(b * nb[nd, 0] + a * nb[nd, 6] - px, px - (b * nb[nd, 3] + a * nb[nd, 9])), 0.0)
+    y = max(max(b * nb[nd, 1] + a * nb[nd, 7] - py, py - (b * nb[nd, 4] + a * nb[nd, 10])), 0.0)
+    z = max(max(b * nb[nd, 2] + a * nb[nd, 8] - pz, pz - (b * nb[nd, 5] + a * nb[nd, 11])), 0.0)
+    return x * x + y * y + z * z
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
@@ -582,30 +576,25 @@ def swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd):
     """Squared distance, in a frame moving by ``a``·r (r the reference displacement over
     the frame, p given at time a in world coordinates), from p to the box swept by node nd
     over the whole frame in that moving frame: no triangle of the node comes nearer to the
-    point's moving-frame position at any time of the frame."""
-    d = 0.0
-    for q in range(3):
-        c = (px - a * rx) if q == 0 else ((py - a * ry) if q == 1 else (pz - a * rz))
-        r = rx if q == 0 else (ry if q == 1 else rz)
-        lo = min(nb[nd, q], nb[nd, 6 + q] - r)
-        hi = max(nb[nd, 3 + q], nb[nd, 9 + q] - r)
-        x = lo - c
-        if x > 0.0:
-            d += x * x
-        else:
-            x = c - hi
-            if x > 0.0:
-                d += x * x
-    return d
+    point's moving-frame position at any time of the frame (branch-free)."""
+    c = px - a * rx
+    x = max(max(min(nb[nd, 0], nb[nd, 6] - rx) - c, c - max(nb[nd, 3], nb[nd, 9] - rx)), 0.0)
+    c = py - a * ry
+    y = max(max(min(nb[nd, 1], nb[nd, 7] - ry) - c, c - max(nb[nd, 4], nb[nd, 10] - ry)), 0.0)
+    c = pz - a * rz
+    z = max(max(min(nb[nd, 2], nb[nd, 8] - rz) - c, c - max(nb[nd, 5], nb[nd, 11] - rz)), 0.0)
+    return x * x + y * y + z * z
 
 
 @numba.njit(cache=True, _nrt=False)
-def closest_triangle_t(px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, root,
+def closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, root,
                        best_d2, best_t, stack, inv_t, spd):
     """Closest triangle to p among one part's hierarchy at time ``alpha``, if nearer than
     √best_d2, with the node boxes of two frames ``nb`` (K,12), blended at ``alpha`` (tighter
     than the box swept over the frame: a fast limb is pruned where it is at that time).
-    ``vp`` (N,6) float32 positions at the two frames. Returns (best_d2, best_t, nodes
+    ``vp`` (N,6) float32 positions at the two frames; ``lf`` (R,3) int32 the vertices of
+    each reference of ``tris`` (a leaf's are read in sequence, not through the faces).
+    Returns (best_d2, best_t, nodes
     visited, triangles tested, frame_d2): frame_d2 is a lower bound of the squared distance,
     for the whole frame and in the frame moving by the reference displacement (rx, ry, rz),
     from the point to every triangle of the part (over the leaves visited and the subtrees
@@ -664,10 +653,9 @@ def closest_triangle_t(px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris
         if nb[nd, 12] > spd[1]:
             spd[1] = nb[nd, 12]
         for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
-            t = tris[s]
-            ia = faces[t, 0]
-            ib = faces[t, 1]
-            ic = faces[t, 2]
+            ia = lf[s, 0]
+            ib = lf[s, 1]
+            ic = lf[s, 2]
             ax = b * vp[ia, 0] + alpha * vp[ia, 3]
             ay = b * vp[ia, 1] + alpha * vp[ia, 4]
             az = b * vp[ia, 2] + alpha * vp[ia, 5]
@@ -677,28 +665,10 @@ def closest_triangle_t(px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris
             cx = b * vp[ic, 0] + alpha * vp[ic, 3]
             cy = b * vp[ic, 1] + alpha * vp[ic, 4]
             cz = b * vp[ic, 2] + alpha * vp[ic, 5]
-            d = 0.0
-            x = min(ax, min(bx, cx)) - px
-            if x > 0.0:
-                d += x * x
-            else:
-                x = px - max(ax, max(bx, cx))
-                if x > 0.0:
-                    d += x * x
-            x = min(ay, min(by, cy)) - py
-            if x > 0.0:
-                d += x * x
-            else:
-                x = py - max(ay, max(by, cy))
-                if x > 0.0:
-                    d += x * x
-            x = min(az, min(bz, cz)) - pz
-            if x > 0.0:
-                d += x * x
-            else:
-                x = pz - max(az, max(bz, cz))
-                if x > 0.0:
-                    d += x * x
+            x = max(max(min(ax, min(bx, cx)) - px, px - max(ax, max(bx, cx))), 0.0)
+            y = max(max(min(ay, min(by, cy)) - py, py - max(ay, max(by, cy))), 0.0)
+            z = max(max(min(az, min(bz, cz)) - pz, pz - max(az, max(bz, cz))), 0.0)
+            d = x * x + y * y + z * z
             if d >= best_d2:
                 continue
             tested += 1
@@ -709,7 +679,7 @@ def closest_triangle_t(px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris
             d = qx * qx + qy * qy + qz * qz
             if d < best_d2:
                 best_d2 = d
-                best_t = t
+                best_t = tris[s]
     return best_d2, best_t, visited, tested, frame_d2
 
 

@@ -279,6 +279,7 @@ class Collider:
         if first and self.tree_parts.any():
             self.tree = B.build(v, self.faces, self._part_faces, self.leaf_size)
             self._lv_start, self._lv = B.leaf_vertices(self.tree, self.faces)
+            self._lf = np.ascontiguousarray(self.faces[self.tree.tris], dtype=np.int32)
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
         if self.tree is not None:
             # the frame's motion, for the clocks (packing, later, finds the same values)
@@ -539,7 +540,7 @@ class Collider:
                       self._frame, self._rkey, self._rec, self._pspeed, self._pstamp,
                       self._spd, self._last, self._pclk, ck, self._csw, self._crel,
                       self._cstamp, self.search_radius, self._ct2, self._cp2, self._cc2,
-                      self._left)
+                      self._left, self._lf)
         self.timings.object_queries += _clock() - t
 
     def _image(self, pos, vel, alpha, lo, hi, held):

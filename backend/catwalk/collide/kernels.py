@@ -7,7 +7,8 @@ Stats written by the passes (``stats`` int64 array, accumulated):
 0 points that passed a part's box test, 1 narrow-phase searches (hierarchy walks or map
 look-ups), 2 contacts, 3 closest-triangle results reused, 4 hierarchy nodes visited,
 5 points skipped by the box tests, 6 points skipped by their clearance, 7 triangles tested
-(closest point computed).
+(closest point computed). (Numba caches a kernel by its own file: a change to the inlined
+helpers of bvh.py needs a change here too, or the cached kernel keeps the old code.)
 """
 
 from __future__ import annotations
@@ -236,7 +237,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
                 reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left):
+                cstamp, cert_reach, ct2, cp2, cc2, left, lf):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
@@ -283,7 +284,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     body clock. ``spd`` (2,): workspace.
     ``left`` (P,3): where the point was left then, after any push (the crossing test's last
     position). ``prev``/``alpha_prev``: the previous positions and time, used for a point
-    never seen."""
+    never seen. ``lf`` (R,3) int32: the vertices of each reference in ``tris``."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -470,7 +471,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                         if nn > 1 and _lerp_box_d2(px, py, pz, nb, rt, alpha, b) >= d2:
                             continue
                         d2o, tk, nv, nt, _ = closest_triangle_t(
-                            px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, rt,
+                            px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, rt,
                             d2 if nn > 1 else ro * ro, -1, stack, inv_t, spd)
                         stats[ST_NODES] += nv
                         stats[ST_TRIS] += nt
@@ -516,7 +517,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                     continue
                 boxed = True
                 best_d2, best_t, nv, nt, ld2 = closest_triangle_t(
-                    px, py, pz, vp, faces, alpha, rx, ry, rz, nb, links, tris, rt, best_d2,
+                    px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, rt, best_d2,
                     best_t, stack, inv_t, spd)
                 lower = min(lower, ld2)
                 stats[ST_NODES] += nv
