@@ -128,3 +128,25 @@ def test_tryon_bad_arguments_exit_2(body_glb, tmp_path, repo_root, capsys, args,
     assert rc == 2
     assert message in capsys.readouterr().err
     assert not (tmp_path / "t.glb").exists()
+
+
+def test_dress_cli_writes_a_valid_static_glb(body_glb, tmp_path, repo_root, capsys):
+    from catwalk.export.garment import read_garments
+    from catwalk.export.gltf import validate
+
+    out = tmp_path / "dressed.glb"
+    rc = main(["dress", "--body", str(body_glb), "--garment", str(repo_root / SKIRT),
+               "--size", "S", *FAST, "-o", str(out), "--iv", str(tmp_path / "d.iv"),
+               "--metrics", str(tmp_path / "m.json")])
+    assert rc == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["max_seam_gap_mm"] == 0.0 and summary["file"] == str(out)
+    assert validate([out])[0]["numErrors"] == 0
+    (garment,) = read_garments(out)
+    assert garment.frames == 1 and len(garment.panel_names) >= 3
+    assert json.loads((tmp_path / "m.json").read_text())["points"] > 100
+    assert (tmp_path / "d.iv").stat().st_size > 1000
+    # a garment that is not there: exit 2, nothing written
+    rc = main(["dress", "--body", str(body_glb), "--garment", str(tmp_path / "nope.json"),
+               *FAST, "-o", str(tmp_path / "x.glb")])
+    assert rc == 2 and not (tmp_path / "x.glb").exists()
