@@ -76,19 +76,19 @@ def run(garments=None, sizes=None, preset_name: str = "balanced", h: float | Non
 
 def _render(body, dressed, path: Path) -> str:
     """Front, side and back of the dressed body, textured as the .glb shows it."""
-    import tempfile
-
     import numpy as np
+    from PIL import Image
 
-    from catwalk.export.garment import write_tryon
-    from catwalk.export.scene import load_scene
+    from catwalk.export.scene import garment_vertex_colours
     from catwalk.render.preview import render_meshes, save_png
     from catwalk.simulate.pipeline import static_frames
 
-    with tempfile.TemporaryDirectory() as tmp:
-        glb = Path(tmp) / "dressed.glb"
-        write_tryon(glb, body, None, [static_frames(dressed)])
-        meshes = [(v, f, rgb) for _, v, f, rgb in load_scene(glb).meshes_at(0.0)]
+    frames = static_frames(dressed)
+    images = [None if tex is None else
+              np.asarray(Image.open(tex[0]).convert("RGBA"), dtype=np.float64) / 255.0
+              for tex in frames.textures]
+    meshes = [(body.vertices, body.faces, (0.80, 0.66, 0.58)),
+              (frames.positions[0], frames.triangles, garment_vertex_colours(frames, images))]
     img = np.concatenate([render_meshes(meshes, view=v, size=(300, 450))
                           for v in ("front", "side", "back")], axis=1)
     path.parent.mkdir(parents=True, exist_ok=True)

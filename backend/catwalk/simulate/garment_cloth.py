@@ -15,6 +15,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 
 from catwalk.cloth.builder import Panel, Seam, adjacency, build_cloth
 from catwalk.cloth.fabrics import Fabric
@@ -136,21 +138,16 @@ def weld(model: ClothModel, pairs: np.ndarray | None = None) -> tuple[ClothModel
     unwelded pairs, re-indexed) and ``rep`` (n_original,) → particle index."""
     n = model.n_points
     sel = np.ones(len(model.seam_a), bool) if pairs is None else np.asarray(pairs, bool)
-    parent = np.arange(n)
-
-    def find(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    for a, b in zip(model.seam_a[sel], model.seam_b[sel], strict=True):
-        ra, rb = find(int(a)), find(int(b))
-        if ra != rb:
-            parent[max(ra, rb)] = min(ra, rb)
-    roots = np.array([find(i) for i in range(n)])
-    uniq, rep = np.unique(roots, return_inverse=True)
-    m = len(uniq)
+    # particles = connected components of the graph whose edges are the welded pairs
+    graph = coo_matrix((np.ones(int(sel.sum())), (model.seam_a[sel], model.seam_b[sel])),
+                       shape=(n, n))
+    m, label = connected_components(graph, directed=False)
+    # number the particles by their first point, so unwelded points keep their order
+    first_of = np.full(m, n)
+    np.minimum.at(first_of, label, np.arange(n))
+    rank = np.empty(m, dtype=np.int64)
+    rank[np.argsort(first_of, kind="stable")] = np.arange(m)
+    rep = rank[label]
     mass = np.bincount(rep, weights=model.mass, minlength=m)
     # a particle sits at the mean of its points (weighted by mass)
     pos = np.zeros((m, 3))
@@ -172,8 +169,7 @@ def weld(model: ClothModel, pairs: np.ndarray | None = None) -> tuple[ClothModel
     adj_ptr, adj_spring, adj_other = adjacency(m, sa[:n_lim], sb[:n_lim])
     tris = rep[model.triangles].astype(np.int32)
     good = (tris[:, 0] != tris[:, 1]) & (tris[:, 1] != tris[:, 2]) & (tris[:, 0] != tris[:, 2])
-    first_pt = np.full(m, n)
-    np.minimum.at(first_pt, rep, np.arange(n))
+    first_pt = np.sort(first_of)   # each particle's first point, in particle order
     rest_sel = ~sel
     welded = replace(
         model, uv=model.uv[first_pt], rest_positions=pos, mass=mass,
