@@ -1,5 +1,5 @@
 """Catalogue garments sew onto a body (small scenes: the fast preset, h = 2.5 cm, size S on
-the MakeHuman base body of the garment's sex). The full catalogue on the sample bodies, at the
+the female MakeHuman base body). The full catalogue on the sample bodies, at the
 default preset, is `catwalk bench dress` (docs/tryon.md)."""
 
 import numpy as np
@@ -11,27 +11,15 @@ from catwalk.simulate.metrics import BodySurface, penetration
 from catwalk.simulate.walking import strain_of
 
 
-@pytest.fixture(scope="module")
-def male_body():
-    from catwalk.body.rig import measured_base_body
-
-    return measured_base_body(1.0)
-
-
-@pytest.mark.parametrize("name", [
-    "dress", "pencil-skirt",
-    pytest.param("trousers", marks=pytest.mark.xfail(
-        reason="known: the base male body is between sizes; S is tight over the hips (denim "
-               "τ = 3 %: 2 % of springs over it, not settled), M slides to the floor",
-        strict=False)),
-    pytest.param("tshirt", marks=pytest.mark.xfail(
-        reason="known: on the small base body a few sleeve points are pulled through the arm "
-               "while sewing (≈ 3 cm deep) or an armhole stays open; on the sample bodies it "
-               "dresses (catwalk bench dress)", strict=False)),
-])
-def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
+# The T-shirt and the trousers are not here: on these small base bodies a few T-shirt sleeve
+# points are pulled through the arm, and the base male body is between trouser sizes (S tight
+# over the hips beyond denim's 3 % limit, M slides to the floor). They are measured on their
+# sample bodies by `catwalk bench dress` (docs/tryon.md) instead of being kept here as
+# expected failures, which could never fail.
+@pytest.mark.parametrize("name", ["dress", "pencil-skirt", "gc-dress-pencil"])
+def test_catalogue_garment_sews_on(name, repo_root, dressable_body):
     g = load_garment(repo_root / "garments" / f"{name}.json")
-    body = male_body if g.fit.get("M", "").startswith("male") else dressable_body
+    body = dressable_body
     d = dress(body, g, "S", settings=preset("fast"))
     st = d.stats
     # every seam welded (a welded pair is one particle: its gap is 0)
@@ -49,7 +37,7 @@ def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
     # the garment hangs where it belongs
     y = x[:, 1]
     lm = body.landmarks
-    if name in ("dress", "tshirt"):
+    if name in ("dress", "gc-dress-pencil"):
         assert y.max() > lm["shoulder_left"][1] - 0.05 and y.min() < lm["waist"][1]
     else:
         assert lm["crotch"][1] < y.max() < lm["bust"][1]
