@@ -621,6 +621,45 @@ def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa,
     return status
 
 
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _dist(p, a, b):
+    dx = p[b, 0] - p[a, 0]
+    dy = p[b, 1] - p[a, 1]
+    dz = p[b, 2] - p[a, 2]
+    return np.sqrt(dx * dx + dy * dy + dz * dz)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _xpbd_distance(p, x, a, b, wa, wb, rest, at, gam, lam):
+    """One XPBD projection of the compliant distance constraint |p_b − p_a| = ``rest``
+    (compliance/dt² ``at``, damping ``gam``, multiplier so far ``lam``): moves p_a and p_b,
+    returns the multiplier's change (0 when both ends are immovable or coincide)."""
+    if wa + wb == 0.0:
+        return 0.0
+    dx = p[b, 0] - p[a, 0]
+    dy = p[b, 1] - p[a, 1]
+    dz = p[b, 2] - p[a, 2]
+    ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+    if ll < 1e-12:
+        return 0.0
+    inv = 1.0 / ll
+    dx *= inv
+    dy *= inv
+    dz *= inv
+    # ∇C·(p − x): the constraint's lengthening speed × dt
+    dl = ((p[b, 0] - x[b, 0]) - (p[a, 0] - x[a, 0])) * dx + \
+        ((p[b, 1] - x[b, 1]) - (p[a, 1] - x[a, 1])) * dy + \
+        ((p[b, 2] - x[b, 2]) - (p[a, 2] - x[a, 2])) * dz
+    dlam = (-(ll - rest) - at * lam - gam * dl) / ((1.0 + gam) * (wa + wb) + at)
+    p[a, 0] -= wa * dlam * dx
+    p[a, 1] -= wa * dlam * dy
+    p[a, 2] -= wa * dlam * dz
+    p[b, 0] += wb * dlam * dx
+    p[b, 1] += wb * dlam * dy
+    p[b, 2] += wb * dlam * dz
+    return dlam
+
+
 @numba.njit(cache=True, error_model="numpy")
 def run_steps_xpbd(x, v, xprev, p, lam, mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, compress,
                    gravity, air, seam_a, seam_b, seam_k, seam_c, lam_seam, dt, nsteps,
@@ -660,68 +699,21 @@ def run_steps_xpbd(x, v, xprev, p, lam, mass, w_int, w_lim, sa, sb, rest, k, c, 
             for s in range(sa.shape[0]):
                 a = sa[s]
                 b = sb[s]
-                wa = w_int[a]
-                wb = w_int[b]
-                if wa + wb == 0.0:
-                    continue
-                dx = p[b, 0] - p[a, 0]
-                dy = p[b, 1] - p[a, 1]
-                dz = p[b, 2] - p[a, 2]
-                ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-                if ll < 1e-12:
-                    continue
-                inv = 1.0 / ll
-                dx *= inv
-                dy *= inv
-                dz *= inv
-                cc = ll - rest[s]
+                ll = _dist(p, a, b)
                 kk = k[s]
-                if cc < 0.0 and s < n_lim:
+                if ll < rest[s] and s < n_lim:
                     kk *= compress
                 ikd = 1.0 / (kk * dt)
-                at = ikd * inv_dt  # compliance / dt²
-                gam = c[s] * ikd  # α̃·β̃/dt with β̃ = dt²·c
-                # ∇C·(p − x): the spring's lengthening speed × dt
-                dl = ((p[b, 0] - x[b, 0]) - (p[a, 0] - x[a, 0])) * dx + \
-                    ((p[b, 1] - x[b, 1]) - (p[a, 1] - x[a, 1])) * dy + \
-                    ((p[b, 2] - x[b, 2]) - (p[a, 2] - x[a, 2])) * dz
-                dlam = (-cc - at * lam[s] - gam * dl) / ((1.0 + gam) * (wa + wb) + at)
-                lam[s] += dlam
-                p[a, 0] -= wa * dlam * dx
-                p[a, 1] -= wa * dlam * dy
-                p[a, 2] -= wa * dlam * dz
-                p[b, 0] += wb * dlam * dx
-                p[b, 1] += wb * dlam * dy
-                p[b, 2] += wb * dlam * dz
+                # compliance / dt², and α̃·β̃/dt with β̃ = dt²·c
+                lam[s] += _xpbd_distance(p, x, a, b, w_int[a], w_int[b], rest[s],
+                                         ikd * inv_dt, c[s] * ikd, lam[s])
+            at_seam = 1.0 / (seam_k * dt * dt)
+            gam_seam = seam_c / (seam_k * dt)
             for s in range(seam_a.shape[0]):
                 a = seam_a[s]
                 b = seam_b[s]
-                wa = w_int[a]
-                wb = w_int[b]
-                if wa + wb == 0.0:
-                    continue
-                dx = p[b, 0] - p[a, 0]
-                dy = p[b, 1] - p[a, 1]
-                dz = p[b, 2] - p[a, 2]
-                ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-                if ll < 1e-12:
-                    continue
-                dx /= ll
-                dy /= ll
-                dz /= ll
-                at = 1.0 / (seam_k * dt * dt)
-                gam = seam_c / (seam_k * dt)
-                dl = ((p[b, 0] - x[b, 0]) - (p[a, 0] - x[a, 0])) * dx + \
-                    ((p[b, 1] - x[b, 1]) - (p[a, 1] - x[a, 1])) * dy + \
-                    ((p[b, 2] - x[b, 2]) - (p[a, 2] - x[a, 2])) * dz
-                dlam = (-ll - at * lam_seam[s] - gam * dl) / ((1.0 + gam) * (wa + wb) + at)
-                lam_seam[s] += dlam
-                p[a, 0] -= wa * dlam * dx
-                p[a, 1] -= wa * dlam * dy
-                p[a, 2] -= wa * dlam * dz
-                p[b, 0] += wb * dlam * dx
-                p[b, 1] += wb * dlam * dy
-                p[b, 2] += wb * dlam * dz
+                lam_seam[s] += _xpbd_distance(p, x, a, b, w_int[a], w_int[b], 0.0, at_seam,
+                                              gam_seam, lam_seam[s])
             if limit:
                 for s in range(n_lim):
                     a = sa[s]
