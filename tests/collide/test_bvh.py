@@ -28,23 +28,29 @@ def test_every_triangle_is_in_a_leaf_of_its_part_and_duplication_is_bounded():
     assert 1.0 <= h.dup < 4.0  # triangles copied across split planes
 
 
-def test_refit_boxes_contain_the_swept_triangles():
+def test_refit_boxes_contain_each_frames_triangles():
     m, fp = _body()
     parts = {p: np.nonzero(fp == p)[0] for p in range(1, 5)}
     h = B.build(m.rest, m.faces, parts)
     v0 = m.vertices(walk_pose(0.0))
     v1 = m.vertices(walk_pose(0.1))
+    vp = np.hstack([v0, v1]).astype(np.float32)
+    lv_start, lv = B.leaf_vertices(h, m.faces)
+    nb = np.zeros((h.n_nodes, 16), np.float32)
     for p in parts:
-        B.refit(v0, v1, m.faces, h.bounds, h.links, h.tris, h.root[p], h.end[p])
-    for n in range(h.n_nodes):
-        if h.links[n, 0] >= 0:
-            kids = h.links[n, :2]
-            assert np.all(h.bounds[n, :3] <= h.bounds[kids, :3].min(axis=0))
-            assert np.all(h.bounds[n, 3:] >= h.bounds[kids, 3:].max(axis=0))
-            continue
-        t = h.tris[h.links[n, 2]:h.links[n, 2] + h.links[n, 3]]
-        pts = np.concatenate([v0[m.faces[t]].reshape(-1, 3), v1[m.faces[t]].reshape(-1, 3)])
-        assert np.all(pts >= h.bounds[n, :3] - 1e-12) and np.all(pts <= h.bounds[n, 3:] + 1e-12)
+        for col in (0, 1):
+            B.refit_frame(vp, col, lv_start, lv, h.links, nb, h.root[p], h.end[p])
+    for col, v in ((0, v0), (1, v1)):
+        lo, hi = nb[:, 6 * col:6 * col + 3], nb[:, 6 * col + 3:6 * col + 6]
+        for n in range(h.n_nodes):
+            if h.links[n, 0] >= 0:
+                kids = h.links[n, :2]
+                assert np.all(lo[n] <= lo[kids].min(axis=0))
+                assert np.all(hi[n] >= hi[kids].max(axis=0))
+                continue
+            t = h.tris[h.links[n, 2]:h.links[n, 2] + h.links[n, 3]]
+            pts = v[m.faces[t]].reshape(-1, 3).astype(np.float32)
+            assert np.all(pts >= lo[n]) and np.all(pts <= hi[n])
 
 
 def _brute(p, v, faces, ids):
@@ -57,35 +63,6 @@ def _brute(p, v, faces, ids):
         if d < best[0]:
             best = (d, t)
     return best
-
-
-def test_closest_triangle_matches_brute_force_at_any_time_of_the_frame():
-    m, fp = _body()
-    arm = np.nonzero(fp == 1)[0]
-    h = B.build(m.rest, m.faces, {1: arm})
-    v0 = m.vertices(walk_pose(0.0))
-    v1 = m.vertices(walk_pose(0.1))
-    B.refit(v0, v1, m.faces, h.bounds, h.links, h.tris, h.root[1], h.end[1])
-    rng = np.random.default_rng(0)
-    stack = np.empty(128, np.int64)
-    vb = np.hstack([v0, v1]).astype(np.float32)
-    centre = v0[m.faces[arm]].reshape(-1, 3).mean(axis=0)
-    for _ in range(60):
-        alpha = rng.random()
-        va = (1 - alpha) * v0 + alpha * v1
-        p = centre + rng.normal(0, 0.08, 3)
-        d2, t, nodes, tested, leaf_d2 = B.closest_triangle(
-            *p, vb, m.faces.astype(np.int64), alpha, h.bounds, h.links, h.tris,
-            h.root[1], np.inf, -1, stack)
-        bd2, bt = _brute(p, va, m.faces, arm)
-        assert np.isclose(d2, bd2, rtol=1e-5, atol=1e-12)  # float32 positions
-        assert tested < len(arm) / 3  # the hierarchy prunes
-        assert leaf_d2 <= d2 + 1e-15
-        # within a radius: nothing found beyond it
-        r2 = 0.25 * bd2
-        d2r, tr, *_ = B.closest_triangle(*p, vb, m.faces.astype(np.int64), alpha,
-                                          h.bounds, h.links, h.tris, h.root[1], r2, -1, stack)
-        assert tr == -1 and d2r == r2
 
 
 def test_closest_on_triangle_regions():

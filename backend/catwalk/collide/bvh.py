@@ -3,9 +3,10 @@
 Each part's triangles go into a binary hierarchy that halves the node's box with a plane across
 its largest dimension (spatial median, no search for the best split: body triangles are small
 and evenly spread). A triangle spanning the plane goes into *both* halves; no triangle is split.
-The topology is built once from the rest pose; each frame only the bounds are refitted, over the
-*swept* triangles (the union of their boxes at the previous and the current frame), so one refit
-bounds the body at every substep in between.
+The topology is built once from the rest pose; each frame only the bounds are refitted
+(:func:`refit_frame`): a node keeps its box at the previous and at the current frame, and the
+walk (:func:`closest_triangle_t`) blends them at the substep's time, which bounds the body at
+every substep in between.
 
 All parts' hierarchies live in one set of flat arrays (:class:`Hierarchy`); nodes are in
 pre-order, so children come after parents and a refit walks a part's node range backwards.
@@ -264,49 +265,6 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
     return nn, nr
 
 
-@numba.njit(cache=True, _nrt=False)
-def refit(v0, v1, faces, bounds, links, tris, first, last):
-    """Refit nodes [first, last) (one part) to the triangles swept from ``v0`` to ``v1``."""
-    for nd in range(last - 1, first - 1, -1):
-        if links[nd, 0] < 0:
-            for q in range(3):
-                bounds[nd, q] = np.inf
-                bounds[nd, 3 + q] = -np.inf
-            for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
-                t = tris[s]
-                for c in range(3):
-                    vi = faces[t, c]
-                    for q in range(3):
-                        a = v0[vi, q]
-                        b = v1[vi, q]
-                        if a > b:
-                            a, b = b, a
-                        if a < bounds[nd, q]:
-                            bounds[nd, q] = a
-                        if b > bounds[nd, 3 + q]:
-                            bounds[nd, 3 + q] = b
-        else:
-            l = links[nd, 0]
-            r = links[nd, 1]
-            for q in range(3):
-                bounds[nd, q] = min(bounds[l, q], bounds[r, q])
-                bounds[nd, 3 + q] = max(bounds[l, 3 + q], bounds[r, 3 + q])
-
-
-@numba.njit(cache=True, _nrt=False)
-def box_dist2(px, py, pz, bounds, nd):
-    """Squared distance from p to node nd's box (0 inside)."""
-    d = 0.0
-    for q in range(3):
-        c = px if q == 0 else (py if q == 1 else pz)
-        x = bounds[nd, q] - c
-        if x > 0.0:
-            d += x * x
-        else:
-            x = c - bounds[nd, 3 + q]
-            if x > 0.0:
-                d += x * x
-    return d
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -356,126 +314,6 @@ def closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
     den = 1.0 / den
     return vb * den, vc * den
 
-
-@numba.njit(cache=True, _nrt=False)
-def closest_triangle(px, py, pz, vb, faces, alpha, bounds, links, tris, root, best_d2,
-                     best_t, stack):
-    """Closest triangle to p among one part's hierarchy at time ``alpha``, if nearer than
-    √best_d2. ``vb`` (N, ≥6): each vertex's position at the previous frame (columns 0–2)
-    and the current one (3–5) (the collider passes float32: it stays in cache).
-    Returns (best_d2, best_t, nodes visited, triangles tested, leaf_d2): leaf_d2 is a lower
-    bound of the squared distance from p to every leaf's box in this hierarchy (the
-    nearest leaf box visited, else the initial best_d2) — boxes are swept over the frame, so
-    no triangle of the part comes nearer than that at any time of the frame.
-
-    Hot loop: written out by hand (numba calls between kernels cost more than the work)."""
-    stack[0] = root
-    sp = 1
-    visited = 0
-    tested = 0
-    leaf_d2 = best_d2
-    b = 1.0 - alpha
-    while sp > 0:
-        sp -= 1
-        nd = stack[sp]
-        visited += 1
-        d = 0.0
-        x = bounds[nd, 0] - px
-        if x > 0.0:
-            d += x * x
-        else:
-            x = px - bounds[nd, 3]
-            if x > 0.0:
-                d += x * x
-        x = bounds[nd, 1] - py
-        if x > 0.0:
-            d += x * x
-        else:
-            x = py - bounds[nd, 4]
-            if x > 0.0:
-                d += x * x
-        x = bounds[nd, 2] - pz
-        if x > 0.0:
-            d += x * x
-        else:
-            x = pz - bounds[nd, 5]
-            if x > 0.0:
-                d += x * x
-        if d >= best_d2:
-            continue
-        if links[nd, 0] >= 0:
-            if sp + 2 > stack.shape[0]:
-                continue
-            # push both; the child whose box centre is nearer goes last (popped first)
-            l = links[nd, 0]
-            r = links[nd, 1]
-            cl = 0.0
-            cr = 0.0
-            for q in range(3):
-                c = px if q == 0 else (py if q == 1 else pz)
-                e = 0.5 * (bounds[l, q] + bounds[l, 3 + q]) - c
-                cl += e * e
-                e = 0.5 * (bounds[r, q] + bounds[r, 3 + q]) - c
-                cr += e * e
-            if cl < cr:
-                stack[sp] = r
-                stack[sp + 1] = l
-            else:
-                stack[sp] = l
-                stack[sp + 1] = r
-            sp += 2
-            continue
-        if d < leaf_d2:
-            leaf_d2 = d
-        for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
-            t = tris[s]
-            ia = faces[t, 0]
-            ib = faces[t, 1]
-            ic = faces[t, 2]
-            ax = b * vb[ia, 0] + alpha * vb[ia, 3]
-            ay = b * vb[ia, 1] + alpha * vb[ia, 4]
-            az = b * vb[ia, 2] + alpha * vb[ia, 5]
-            bx = b * vb[ib, 0] + alpha * vb[ib, 3]
-            by = b * vb[ib, 1] + alpha * vb[ib, 4]
-            bz = b * vb[ib, 2] + alpha * vb[ib, 5]
-            cx = b * vb[ic, 0] + alpha * vb[ic, 3]
-            cy = b * vb[ic, 1] + alpha * vb[ic, 4]
-            cz = b * vb[ic, 2] + alpha * vb[ic, 5]
-            # the triangle's box first: cheap, rejects most
-            d = 0.0
-            x = min(ax, min(bx, cx)) - px
-            if x > 0.0:
-                d += x * x
-            else:
-                x = px - max(ax, max(bx, cx))
-                if x > 0.0:
-                    d += x * x
-            x = min(ay, min(by, cy)) - py
-            if x > 0.0:
-                d += x * x
-            else:
-                x = py - max(ay, max(by, cy))
-                if x > 0.0:
-                    d += x * x
-            x = min(az, min(bz, cz)) - pz
-            if x > 0.0:
-                d += x * x
-            else:
-                x = pz - max(az, max(bz, cz))
-                if x > 0.0:
-                    d += x * x
-            if d >= best_d2:
-                continue
-            tested += 1
-            v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
-            qx = ax + v * (bx - ax) + w * (cx - ax) - px
-            qy = ay + v * (by - ay) + w * (cy - ay) - py
-            qz = az + v * (bz - az) + w * (cz - az) - pz
-            d = qx * qx + qy * qy + qz * qz
-            if d < best_d2:
-                best_d2 = d
-                best_t = t
-    return best_d2, best_t, visited, tested, leaf_d2
 
 
 def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:

@@ -64,48 +64,6 @@ def respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
         vel[i, 2] = bvz + rz
 
 
-@numba.njit(cache=True, _nrt=False)
-def _signed(px, py, pz, vb, faces, t, alpha):
-    """Signed distance of p to triangle t at time alpha: (p − q)·n_s with q the closest point
-    and n_s the interpolated vertex normal there; returns (s, nx, ny, nz, bary v, bary w).
-    ``vb`` (N,18): per vertex position, normal, velocity at the previous frame (0–2, 6–8,
-    12–14) and the current one (3–5, 9–11, 15–17)."""
-    ia = faces[t, 0]
-    ib = faces[t, 1]
-    ic = faces[t, 2]
-    k = 1.0 - alpha
-    ax = k * vb[ia, 0] + alpha * vb[ia, 3]
-    ay = k * vb[ia, 1] + alpha * vb[ia, 4]
-    az = k * vb[ia, 2] + alpha * vb[ia, 5]
-    bx = k * vb[ib, 0] + alpha * vb[ib, 3]
-    by = k * vb[ib, 1] + alpha * vb[ib, 4]
-    bz = k * vb[ib, 2] + alpha * vb[ib, 5]
-    cx = k * vb[ic, 0] + alpha * vb[ic, 3]
-    cy = k * vb[ic, 1] + alpha * vb[ic, 4]
-    cz = k * vb[ic, 2] + alpha * vb[ic, 5]
-    v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
-    u = 1.0 - v - w
-    qx = ax + v * (bx - ax) + w * (cx - ax)
-    qy = ay + v * (by - ay) + w * (cy - ay)
-    qz = az + v * (bz - az) + w * (cz - az)
-    nx = u * (k * vb[ia, 6] + alpha * vb[ia, 9]) + v * (k * vb[ib, 6] + alpha * vb[ib, 9]) + \
-        w * (k * vb[ic, 6] + alpha * vb[ic, 9])
-    ny = u * (k * vb[ia, 7] + alpha * vb[ia, 10]) + v * (k * vb[ib, 7] + alpha * vb[ib, 10]) + \
-        w * (k * vb[ic, 7] + alpha * vb[ic, 10])
-    nz = u * (k * vb[ia, 8] + alpha * vb[ia, 11]) + v * (k * vb[ib, 8] + alpha * vb[ib, 11]) + \
-        w * (k * vb[ic, 8] + alpha * vb[ic, 11])
-    nl = math.sqrt(nx * nx + ny * ny + nz * nz)
-    if nl < 1e-12:  # degenerate: use the face normal
-        nx = (by - ay) * (cz - az) - (bz - az) * (cy - ay)
-        ny = (bz - az) * (cx - ax) - (bx - ax) * (cz - az)
-        nz = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
-        nl = math.sqrt(nx * nx + ny * ny + nz * nz) + 1e-300
-    nx /= nl
-    ny /= nl
-    nz /= nl
-    s = (px - qx) * nx + (py - qy) * ny + (pz - qz) * nz
-    return s, nx, ny, nz, v, w
-
 
 @numba.njit(cache=True, _nrt=False)
 def pack_body(v0, v1, n0, n1, w0, w1, idx, vb, vp, ref):
@@ -164,7 +122,9 @@ def _fill_record(rec, i, vb, faces, t):
 
 @numba.njit(cache=True, _nrt=False)
 def _signed_rec(px, py, pz, rec, i, alpha):
-    """:func:`_signed` against the triangle copied in ``rec[i]`` (see :func:`_fill_record`)."""
+    """Signed distance of p to the triangle copied in ``rec[i]`` (:func:`_fill_record`) at time
+    alpha: (p − q)·n_s with q the closest point and n_s the interpolated vertex normal there;
+    returns (s, nx, ny, nz, bary v, bary w)."""
     k = 1.0 - alpha
     ax = k * rec[i, 0] + alpha * rec[i, 3]
     ay = k * rec[i, 1] + alpha * rec[i, 4]
