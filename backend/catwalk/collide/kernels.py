@@ -71,25 +71,7 @@ def pack_body(v0, v1, n0, n1, w0, w1, idx, vb, vp, ref):
     the two frames' positions, normals, velocities per vertex into ``vb`` (N,18) float32
     (previous frame 0–2, 6–8, 12–14; current 3–5, 9–11, 15–17), one vertex in 72 bytes; and
     the positions alone into ``vp`` (N,6) float32, small enough to stay in cache during the
-    hierarchy walks. ``ref`` (3,) gets the reference displacement of the frame (the mean
-    over all vertices: the body's walk); returns the farthest any vertex ``idx`` moves
-    relative to it during the frame (2-norm)."""
-    n = v0.shape[0]
-    rx = 0.0
-    ry = 0.0
-    rz = 0.0
-    for i in range(n):
-        rx += v1[i, 0] - v0[i, 0]
-        ry += v1[i, 1] - v0[i, 1]
-        rz += v1[i, 2] - v0[i, 2]
-    if n > 0:
-        rx /= n
-        ry /= n
-        rz /= n
-    ref[0] = rx
-    ref[1] = ry
-    ref[2] = rz
-    best = 0.0
+    hierarchy walks. Returns :func:`body_motion` (``ref`` gets the frame's mean displacement)."""
     for k in range(idx.shape[0]):
         i = idx[k]
         for q in range(3):
@@ -101,13 +83,7 @@ def pack_body(v0, v1, n0, n1, w0, w1, idx, vb, vp, ref):
             vb[i, 9 + q] = n1[i, q]
             vb[i, 12 + q] = w0[i, q]
             vb[i, 15 + q] = w1[i, q]
-        dx = v1[i, 0] - v0[i, 0] - rx
-        dy = v1[i, 1] - v0[i, 1] - ry
-        dz = v1[i, 2] - v0[i, 2] - rz
-        d = dx * dx + dy * dy + dz * dz
-        if d > best:
-            best = d
-    return math.sqrt(best)
+    return body_motion(v0, v1, idx, ref)
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
@@ -161,9 +137,9 @@ def _signed_rec(px, py, pz, rec, i, alpha):
 
 @numba.njit(cache=True, _nrt=False)
 def body_motion(v0, v1, idx, ref):
-    """The body's motion over a frame, as :func:`pack_body` measures it (without packing):
-    ``ref`` (3,) gets the mean displacement over all vertices; returns the farthest any
-    vertex ``idx`` moves relative to it (2-norm)."""
+    """The body's motion over a frame: ``ref`` (3,) gets the mean displacement over all
+    vertices (the body's walk); returns the farthest any vertex ``idx`` moves relative to it
+    (2-norm)."""
     n = v0.shape[0]
     rx = 0.0
     ry = 0.0
