@@ -25,6 +25,7 @@ from catwalk.collide.bvh import (
     swept_box_d2,
     swept_lower,
 )
+from catwalk.render.raster import row_span
 
 ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS = range(8)
 N_STATS = 8
@@ -840,40 +841,12 @@ def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, 
         d0 = (y1 - y2) * inv
         d1 = (y2 - y0) * inv
         d2 = -(d0 + d1)
-        px0 = jb0 + 0.5
         small = (jb1 - jb0) < 3
         for i in range(i0, i1 + 1):
-            py = i + 0.5
-            w0s = ((x1 - px0) * (y2 - py) - (x2 - px0) * (y1 - py)) * inv
-            w1s = ((x2 - px0) * (y0 - py) - (x0 - px0) * (y2 - py)) * inv
-            w2s = 1.0 - w0s - w1s
-            ja = jb0
-            jb = jb1
-            if not small:
-                lo = 0.0
-                hi = float(jb1 - jb0)
-                if d0 > 0.0:
-                    lo = max(lo, (-eps - w0s) / d0)
-                elif d0 < 0.0:
-                    hi = min(hi, (-eps - w0s) / d0)
-                elif w0s < -eps:
-                    continue
-                if d1 > 0.0:
-                    lo = max(lo, (-eps - w1s) / d1)
-                elif d1 < 0.0:
-                    hi = min(hi, (-eps - w1s) / d1)
-                elif w1s < -eps:
-                    continue
-                if d2 > 0.0:
-                    lo = max(lo, (-eps - w2s) / d2)
-                elif d2 < 0.0:
-                    hi = min(hi, (-eps - w2s) / d2)
-                elif w2s < -eps:
-                    continue
-                if lo > hi:
-                    continue
-                ja = max(jb0 + int(math.ceil(lo - 1e-7)), jb0)
-                jb = min(jb0 + int(math.floor(hi + 1e-7)), jb1)
+            ok, ja, jb, w0s, w1s = row_span(x0, y0, x1, y1, x2, y2, inv, d0, d1, d2, jb0, jb1,
+                                            i + 0.5, small, eps)
+            if not ok:
+                continue
             ja = max(ja, j0)
             jb = min(jb, j1)
             for j in range(ja, jb + 1):

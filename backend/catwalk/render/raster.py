@@ -56,6 +56,47 @@ def clear_buffers(keep_far, depth, attrs, tri):
 CULL_NONE, CULL_BACK, CULL_FRONT = 0, 1, -1
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def row_span(x0, y0, x1, y1, x2, y2, inv, d0, d1, d2, j0, j1, py, small, eps):
+    """The columns of pixel row ``py`` (its centre's y) that the triangle covers, within
+    [j0, j1]: returns (ok, ja, jb, w0s, w1s) with w0s, w1s the barycentric weights at column j0
+    (a weight at column j is w(j0) + d·(j − j0)); ``small``: test every column (no span
+    arithmetic; the caller tests each pixel's weights anyway). Shared by the image rasteriser
+    and the collider's depth maps."""
+    px0 = j0 + 0.5
+    w0s = ((x1 - px0) * (y2 - py) - (x2 - px0) * (y1 - py)) * inv
+    w1s = ((x2 - px0) * (y0 - py) - (x0 - px0) * (y2 - py)) * inv
+    w2s = 1.0 - w0s - w1s
+    if small:
+        return True, j0, j1, w0s, w1s
+    # the span of columns where all three weights are >= −eps
+    lo = 0.0
+    hi = float(j1 - j0)
+    if d0 > 0.0:
+        lo = max(lo, (-eps - w0s) / d0)
+    elif d0 < 0.0:
+        hi = min(hi, (-eps - w0s) / d0)
+    elif w0s < -eps:
+        return False, j0, j1, w0s, w1s
+    if d1 > 0.0:
+        lo = max(lo, (-eps - w1s) / d1)
+    elif d1 < 0.0:
+        hi = min(hi, (-eps - w1s) / d1)
+    elif w1s < -eps:
+        return False, j0, j1, w0s, w1s
+    if d2 > 0.0:
+        lo = max(lo, (-eps - w2s) / d2)
+    elif d2 < 0.0:
+        hi = min(hi, (-eps - w2s) / d2)
+    elif w2s < -eps:
+        return False, j0, j1, w0s, w1s
+    if lo > hi:
+        return False, j0, j1, w0s, w1s
+    ja = max(j0 + int(math.ceil(lo - 1e-7)), j0)
+    jb = min(j0 + int(math.floor(hi + 1e-7)), j1)
+    return True, ja, jb, w0s, w1s
+
+
 @numba.njit(cache=True, _nrt=False)
 def raster_kernel(sv, faces, vattr, keep_far, depth, attrs, tri, cull=0):
     """Rasterise triangles ``faces`` (M,3) of screen vertices ``sv`` (N,3) into the buffers.
@@ -108,41 +149,12 @@ def raster_kernel(sv, faces, vattr, keep_far, depth, attrs, tri, cull=0):
         d0 = (y1 - y2) * inv
         d1 = (y2 - y0) * inv
         d2 = -(d0 + d1)
-        px0 = j0 + 0.5
         small = (j1 - j0) < 3  # narrow: test every pixel, no span arithmetic
         for i in range(i0, i1 + 1):
-            py = i + 0.5
-            w0s = ((x1 - px0) * (y2 - py) - (x2 - px0) * (y1 - py)) * inv
-            w1s = ((x2 - px0) * (y0 - py) - (x0 - px0) * (y2 - py)) * inv
-            w2s = 1.0 - w0s - w1s
-            ja = j0
-            jb = j1
-            if not small:
-                # the span of columns where all three weights are >= −eps
-                lo = 0.0
-                hi = float(j1 - j0)
-                if d0 > 0.0:
-                    lo = max(lo, (-eps - w0s) / d0)
-                elif d0 < 0.0:
-                    hi = min(hi, (-eps - w0s) / d0)
-                elif w0s < -eps:
-                    continue
-                if d1 > 0.0:
-                    lo = max(lo, (-eps - w1s) / d1)
-                elif d1 < 0.0:
-                    hi = min(hi, (-eps - w1s) / d1)
-                elif w1s < -eps:
-                    continue
-                if d2 > 0.0:
-                    lo = max(lo, (-eps - w2s) / d2)
-                elif d2 < 0.0:
-                    hi = min(hi, (-eps - w2s) / d2)
-                elif w2s < -eps:
-                    continue
-                if lo > hi:
-                    continue
-                ja = max(j0 + int(math.ceil(lo - 1e-7)), j0)
-                jb = min(j0 + int(math.floor(hi + 1e-7)), j1)
+            ok, ja, jb, w0s, w1s = row_span(x0, y0, x1, y1, x2, y2, inv, d0, d1, d2, j0, j1,
+                                            i + 0.5, small, eps)
+            if not ok:
+                continue
             for j in range(ja, jb + 1):
                 dj = j - j0
                 w0 = w0s + d0 * dj
