@@ -54,7 +54,7 @@ from catwalk.errors import CatwalkError
 DEFAULT_H = 0.015
 MAX_POINTS = 400_000
 _CLEARANCE = 0.45  # grid points closer than this × h to the outline are dropped
-_MIN_AREA = 0.25  # least area (× h²) a point's mass stands for
+_MIN_AREA = 0.5  # least area (× h²) a point's mass stands for: a straight edge point's
 
 
 @dataclass
@@ -432,7 +432,8 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     for c in range(3):
         np.add.at(mass, triangles[:, c], tarea / 3.0)
     # outline points on thin triangles get tiny masses, and the smallest mass sets the time
-    # step: give every point at least a quarter of a cell's area, then rescale to the total
+    # step: give every point at least half a cell's area (an edge point's), then rescale to the
+    # total
     area = float(tarea.sum())
     mass = np.maximum(mass, _MIN_AREA * h * h)
     mass *= fab.density * area / mass.sum()
