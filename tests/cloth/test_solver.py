@@ -204,3 +204,39 @@ def test_a_badly_overstretched_start_is_pulled_back_without_exploding(method):
     assert end < start - 0.3
     # the limit adds at most a few capped corrections per point to what the springs do
     assert fastest < fastest_free + 12 * MAX_CORRECTION_SPEED   # ≤ 8 limited springs a point
+
+
+def _flat_sheet():
+    m = build_cloth([Panel(rectangle(0.2, 0.2), placement=vertical((0, 0.3, 0)))], h=0.04)
+    st = State.from_model(m)
+    st.positions[:] = st.positions[:, [0, 2, 1]] + [0, 0.05, 0]  # flat, 5 cm up
+    return m, st
+
+
+def test_contact_planes_hold_points_between_collision_responses():
+    m, st = _flat_sheet()
+    n = m.n_points
+    planes = np.zeros((n, 5))
+    held = np.arange(n) % 2 == 0          # half the points rest on the plane y = 0.05
+    planes[held] = (0.0, 1.0, 0.0, 0.05, 0.0)
+    st.planes, st.plane_time = planes, st.time
+    sol = Solver(m, "ordered")
+    sol.run(m, st, 0.3)
+    y = st.positions[:, 1]
+    assert y[held].min() >= 0.05 - 1e-12          # never behind their plane
+    on = held & (y < 0.05 + 1e-12)
+    assert on.sum() > 5 and st.velocities[on, 1].min() >= -1e-9   # those on it: not into it
+    assert y[~held].min() < 0.05 - 1e-3            # the others hang between them under gravity
+    # a plane moving with the body (0.2 m/s along its normal) carries its point along
+    m, st = _flat_sheet()
+    planes = np.zeros((n, 5))
+    planes[:] = (0.0, 1.0, 0.0, 0.05, 0.2)
+    st.planes, st.plane_time = planes, st.time
+    sol = Solver(m, "ordered")
+    sol.run(m, st, 0.25)
+    assert st.positions[:, 1] == pytest.approx(0.05 + 0.2 * st.time, abs=1e-9)
+    # no planes (None) or planes of another size: the solver ignores them
+    m, st = _flat_sheet()
+    st.planes = np.zeros((3, 5))
+    Solver(m, "ordered").run(m, st, 0.1)
+    assert st.positions[:, 1].max() < 0.05

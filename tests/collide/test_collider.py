@@ -288,3 +288,28 @@ def test_bad_input_is_a_catwalk_error():
         c.resolve(p.astype(np.float32), p.copy(), p.copy())
     with pytest.raises(CatwalkError):
         c.resolve(p, p.copy(), p.copy(), alpha=2.0)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_held_points_get_their_contact_plane(mode):
+    centre = np.array([0.0, 1.2, 0.0])
+    R = 0.15
+    v, f = sphere(centre, R, 64, 32)
+    c = make_collider(mode, f, np.zeros(len(v), np.int8))
+    c.update(v)
+    pos = _shell(2000, centre, R - 0.012, R + 0.03)
+    held = c.resolve(pos, np.zeros_like(pos), pos.copy())
+    p = c.planes
+    assert p.shape == (len(pos), 5)
+    nl = np.linalg.norm(p[:, :3], axis=1)
+    assert held.sum() > 300
+    assert np.allclose(nl[held], 1.0) and np.all(nl[~held] == 0.0)
+    # the normal points out of the sphere; every held point is on its plane's outer side,
+    # and the plane is the surface offset by the thickness (within the tessellation)
+    radial = (pos[held] - centre) / np.linalg.norm(pos[held] - centre, axis=1)[:, None]
+    assert np.einsum("ij,ij->i", p[held, :3], radial).min() > 0.9
+    side = np.einsum("ij,ij->i", p[held, :3], pos[held]) - p[held, 3]
+    assert side.min() >= -1e-9
+    surface = p[held, 3] - np.einsum("ij,j->i", p[held, :3], centre)   # n·(q − centre)
+    assert np.median(surface) == pytest.approx(R + T, abs=0.002)
+    assert np.all(p[held, 4] == 0.0)   # a body standing still

@@ -546,6 +546,31 @@ def advance_positions(X, V, R, dt, use_r, XPREV):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def apply_planes(X, V, idx, planes, t):
+    """Contact planes between two collision responses: point ``idx[k]`` stays on the side
+    n·x ≥ c + u·t of its plane ``planes[k]`` = (n, c, u) (u: the body's speed along n, ``t``:
+    the time since the plane was set); a point behind it goes back onto it and loses the
+    velocity it had into the plane relative to the body. Cheap (no search), it stops cloth
+    held by the body sinking in step after step between two responses of the collider, whose
+    next push would come back as a jolt."""
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        nx = planes[k, 0]
+        ny = planes[k, 1]
+        nz = planes[k, 2]
+        d = nx * X[0, i] + ny * X[1, i] + nz * X[2, i] - planes[k, 3] - planes[k, 4] * t
+        if d < 0.0:
+            X[0, i] -= d * nx
+            X[1, i] -= d * ny
+            X[2, i] -= d * nz
+            vn = nx * V[0, i] + ny * V[1, i] + nz * V[2, i] - planes[k, 4]
+            if vn < 0.0:
+                V[0, i] -= vn * nx
+                V[1, i] -= vn * ny
+                V[2, i] -= vn * nz
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _first_nonfinite(X):
     """Index of the first point with a non-finite coordinate, or −1."""
     n = X.shape[1]
@@ -567,13 +592,15 @@ def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa,
               n_lim, runs, n_runs_lim, compress, gravity, air, seam_a, seam_b, seam_k, seam_c, dt,
               nsteps, method, tau, ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2,
               pt_cross, adj_ptr, adj_other, sweeps, react, share, passes, provot_iterations, vmax,
-              out_bad):
+              out_bad, plane_idx, planes, plane_t):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
 
     ``x``, ``v``, ``xprev`` are the caller's (n, 3) arrays, copied into the (3, n) work arrays
     ``X``, ``V``, ``XPREV`` and back; ``XP``, ``F``, ``R``, ``dirty`` are scratch. Returns a
     status (0 ok, 1 non-finite, 2 a speed above ``vmax``) and writes the step and the point
     where it happened to ``out_bad``; on a bad status it stops before moving positions.
+    ``plane_idx``/``planes``/``plane_t``: contact planes kept after every step
+    (:func:`apply_planes`; ``plane_t``: the time since they were set at the call's start).
     """
     to_soa(x, X)
     to_soa(v, V)
@@ -606,6 +633,8 @@ def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa,
             limit_unordered_velocity(X, V, w_lim, sa, sb, rest, n_lim, tau, dt)
         advance_positions(X, V, R, dt, method == METHOD_ORDERED and react > 0.0, XPREV)
         moved = True
+        if plane_idx.shape[0]:
+            apply_planes(X, V, plane_idx, planes, plane_t + (step + 1) * dt)
         if method == METHOD_PROVOT:
             limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, provot_iterations)
     if status == STATUS_OK:

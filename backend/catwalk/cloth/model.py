@@ -89,6 +89,11 @@ class State:
     so a script may move them); they are high-tension centres of the ordered pass.
     ``held`` (n,) bool: points the collider reported as held by the body on the last step.
     ``failed`` is set when the solver detected NaN/explosion; a failed state is refused.
+    ``planes`` (n, 5) or None: the contact planes a collision response left (unit normal,
+    offset c, the body's speed along the normal; zero normal: none), set at time
+    ``plane_time``; until the next response the solver keeps each such point on its side,
+    n·x ≥ c + speed·(t − ``plane_time``) (the body's surface seen from the point, offset by
+    the cloth's thickness), so it does not sink between two responses.
     """
 
     positions: np.ndarray
@@ -98,6 +103,8 @@ class State:
     time: float = 0.0
     steps: int = 0
     failed: str | None = None
+    planes: np.ndarray | None = None
+    plane_time: float = 0.0
 
     @classmethod
     def from_model(cls, model: ClothModel, positions=None) -> State:
@@ -110,4 +117,5 @@ class State:
 
     def copy(self) -> State:
         return State(self.positions.copy(), self.velocities.copy(), self.pinned.copy(),
-                     self.held.copy(), self.time, self.steps, self.failed)
+                     self.held.copy(), self.time, self.steps, self.failed,
+                     None if self.planes is None else self.planes.copy(), self.plane_time)

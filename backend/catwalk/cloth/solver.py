@@ -47,6 +47,10 @@ INTEGRATORS = ("explicit", "xpbd")
 GRAVITY = (0.0, -9.81, 0.0)
 
 
+_NO_PLANE_IDX = np.zeros(0, dtype=np.int64)
+_NO_PLANES = np.zeros((0, 5))
+
+
 class ClothExplosionError(CatwalkError):
     """The simulation produced non-finite values or an absurd speed."""
 
@@ -322,8 +326,16 @@ class Solver:
             self.seam_damping, h, nsteps, METHODS[self.method], self.tau, op, optr, ooth, ocross,
             self._order_lim, self._order_lim2, self._order_pt_cross, model.adj_ptr,
             model.adj_other, self.sweeps, self.react, self.share, self.passes,
-            self.provot_iterations, self.max_speed, self._bad)
+            self.provot_iterations, self.max_speed, self._bad, *self._planes(state))
         return status
+
+    def _planes(self, state):
+        """The state's contact planes as (point indices, (m, 5) planes, time since set)."""
+        p = state.planes
+        if p is None or p.shape != (state.positions.shape[0], 5):
+            return _NO_PLANE_IDX, _NO_PLANES, 0.0
+        idx = np.flatnonzero(p[:, 0] * p[:, 0] + p[:, 1] * p[:, 1] + p[:, 2] * p[:, 2] > 0.5)
+        return idx.astype(np.int64), np.ascontiguousarray(p[idx]), state.time - state.plane_time
 
     def _check(self, state, status, h, nsteps):
         if status != K.STATUS_OK:

@@ -223,6 +223,9 @@ class Collider:
         self._substeps = None
         self._cache_n = -1
         self.stats = np.zeros(K.N_STATS, np.int64)
+        # (P, 5) after each resolve: the held points' contact planes (normal, offset, the
+        # body's normal speed; normal 0 for points not held), see kernels.record_plane
+        self.planes = np.zeros((0, 5))
         self.timings = Timings()
         self._torso_lo = np.zeros(3)
         self._torso_hi = np.zeros(3)
@@ -412,7 +415,8 @@ class Collider:
         """Collide cloth points with the body at this substep; fixes ``positions`` and
         ``velocities`` (float64 (P,3), C-contiguous) in place and returns the held mask (P,)
         bool. ``alpha``: the substep's time in [0, 1] between the previous and the current
-        body frame (default: from the substep count, see :meth:`update`)."""
+        body frame (default: from the substep count, see :meth:`update`). Afterwards
+        :attr:`planes` holds each held point's contact plane (zero normal for the others)."""
         if self.v1 is None:
             raise CatwalkError("collider.update(body) must be called before resolve()")
         pos, vel, prev = positions, velocities, previous_positions
@@ -438,6 +442,10 @@ class Collider:
         self._alpha_last = alpha
         self.timings.substeps += 1
         held = np.zeros(n, dtype=bool)
+        if self.planes.shape[0] != n:
+            self.planes = np.zeros((n, 5))
+        else:
+            self.planes[:, :3] = 0.0
         if n == 0:
             return held
         lo = np.full(3, np.inf)
@@ -540,7 +548,7 @@ class Collider:
                       self._frame, self._rkey, self._rec, self._pspeed, self._pstamp,
                       self._spd, self._last, self._pclk, ck, self._csw, self._crel,
                       self._cstamp, self.search_radius, self._ct2, self._cp2, self._cc2,
-                      self._left, self._lf)
+                      self._left, self._lf, self.planes)
         self.timings.object_queries += _clock() - t
 
     def _image(self, pos, vel, alpha, lo, hi, held):
@@ -560,7 +568,7 @@ class Collider:
         K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
                      self._torso_lo, self._torso_hi, self.thickness, self.friction,
                      self.contact_slack, self.min_normal_z, self.skips.far_points, held,
-                     self.stats, self._pkey, self._pdep, self._patt)
+                     self.stats, self._pkey, self._pdep, self._patt, self.planes)
         self.timings.image_queries += _clock() - t
 
     # ------------------------------------------------------------------ reports

@@ -66,6 +66,19 @@ def respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
 
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz):
+    """Point i (at p, signed distance s along the unit normal n) is held: its contact plane
+    is the body's surface offset by ``thickness``, n·x ≥ n·p + thickness − s, moving with the
+    body's speed along n (the cloth solver keeps the point on its side until the next
+    response: :func:`catwalk.cloth.kernels.apply_planes`)."""
+    planes[i, 0] = nx
+    planes[i, 1] = ny
+    planes[i, 2] = nz
+    planes[i, 3] = nx * px + ny * py + nz * pz + thickness - s
+    planes[i, 4] = nx * bvx + ny * bvy + nz * bvz
+
+
 @numba.njit(cache=True, _nrt=False)
 def pack_body(v0, v1, n0, n1, w0, w1, idx, vb, vp, ref):
     """Per frame, for the vertices ``idx`` (those of the parts in hierarchies): interleave
@@ -174,7 +187,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
                 reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left, lf):
+                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
@@ -221,7 +234,11 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     body clock. ``spd`` (2,): workspace.
     ``left`` (P,3): where the point was left then, after any push (the crossing test's last
     position). ``prev``/``alpha_prev``: the previous positions and time, used for a point
-    never seen. ``lf`` (R,3) int32: the vertices of each reference in ``tris``."""
+    never seen. ``lf`` (R,3) int32: the vertices of each reference in ``tris``.
+
+    ``planes`` (P,5): for each held point its contact plane, written as it is found: the unit
+    normal (0–2), the offset c (3: the point is outside while n·x ≥ c, the surface offset by
+    the thickness) and the body's speed along n (4); see :func:`record_plane`."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -508,8 +525,6 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
         stats[ST_CONTACT] += 1
         if use_clear:
             clear[i] = 0.0
-        if s >= thickness:
-            continue  # touching: held, nothing to fix
         bu = 1.0 - bv - bw
         bvx = b * (bu * rec[i, 12] + bv * rec[i, 30] + bw * rec[i, 48]) + \
             alpha * (bu * rec[i, 15] + bv * rec[i, 33] + bw * rec[i, 51])
@@ -517,6 +532,9 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
             alpha * (bu * rec[i, 16] + bv * rec[i, 34] + bw * rec[i, 52])
         bvz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
             alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
+        record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz)
+        if s >= thickness:
+            continue  # touching: held, nothing to fix
         respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
         # where it was left, for the crossing test (the bounds count the motion from where
         # they hold, before the push: distances change no faster than the point moves)
@@ -527,7 +545,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
 
 @numba.njit(cache=True, _nrt=False)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
-               slack, min_nz, skip_far, held, stats, pkey, pdep, patt):
+               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes):
     """Image-space collision of every cloth point against front/back depth maps at time
     ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps.
 
@@ -718,6 +736,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
             continue
         held[i] = True
         n_contact += 1
+        record_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], nx, ny, nz, s, thickness, bvx,
+                     bvy, bvz)
         if s < thickness:
             respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
     stats[ST_SKIPPED] += n_skip

@@ -106,15 +106,33 @@ def floor_contact(state: State, thickness: float, friction: float, y0: float = 0
     state.held[idx] = True
 
 
+def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | None) -> None:
+    """The collider's response at ``alpha``, then the floor's; the state takes the held
+    points and their contact planes (the floor's for points on it that the body does not
+    hold), which the solver keeps until the next response."""
+    held = collider.resolve(state.positions, state.velocities, x0, alpha=alpha)
+    state.held = np.asarray(held, dtype=bool)
+    body = state.held.copy()
+    floor_contact(state, collider.thickness, collider.friction)
+    planes = getattr(collider, "planes", None)
+    if planes is None or planes.shape != (len(state.held), 5):
+        state.planes = None
+        return
+    if state.planes is None or state.planes.shape != planes.shape:
+        state.planes = np.empty_like(planes)
+    state.planes[:] = planes
+    floor = state.held & ~body
+    state.planes[floor] = (0.0, 1.0, 0.0, collider.thickness, 0.0)
+    state.plane_time = state.time
+
+
 def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
                      h: float, alpha: float | None = None) -> int:
     """One collision response: the body (the collider), the floor, then Provot's correction
     so the cloth round the pushed points follows them (over the ``h`` seconds since the last
     response), then no point faster than ``MAX_CLOTH_SPEED``. Returns how many points had to
     be slowed down (reported: a healthy run slows none)."""
-    held = collider.resolve(state.positions, state.velocities, x0, alpha=alpha)
-    state.held = np.asarray(held, dtype=bool)
-    floor_contact(state, collider.thickness, collider.friction)
+    collide_and_floor(state, collider, x0, alpha)
     solver.after_collision(model, state, h)
     v = state.velocities
     s2 = np.einsum("ij,ij->i", v, v)
@@ -167,6 +185,8 @@ def _restore(state: State, saved: State) -> None:
     state.velocities[:] = saved.velocities
     state.held[:] = saved.held
     state.time, state.steps, state.failed = saved.time, saved.steps, None
+    state.planes = None if saved.planes is None else saved.planes.copy()
+    state.plane_time = saved.plane_time
 
 
 def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
@@ -185,6 +205,7 @@ def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.n
             state.held[:] = False
         solver.after_collision(model, state, CHUNK, iterations=30)
     state.velocities[:] = 0.0
+    state.planes = None
 
 
 def collisions_for(move: float, settings: Settings) -> int:
@@ -318,6 +339,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
     prev = st.positions.copy()
     chunks = max(0, round(settings.settle_seconds / CHUNK))
     speed = float("inf")
+    speeds = []
     settled_chunks = 0
     for i in range(chunks):
         if cancel():
@@ -326,6 +348,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
         advance(solver, welded, st, collider, CHUNK, settings.sew_collisions, x0,
                 settings.max_collisions * 4, dclock)
         speed = _rms_move(st.positions, prev) / CHUNK   # √(2·kinetic energy / mass)
+        speeds.append(round(speed, 4))
         settled_chunks = i + 1
         progress("settling", i + 1, chunks)
         if len(welded.seam_a):
@@ -339,8 +362,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
         if speed < settings.settle_speed and not len(welded.seam_a):
             break
     # the last correction may have pulled free points a little into the body
-    collider.resolve(st.positions, st.velocities, x0, alpha=1.0)
-    floor_contact(st, collider.thickness, friction)
+    collide_and_floor(st, collider, x0, 1.0)
     t_end = time.perf_counter()
     st.velocities[:] = 0.0
 
@@ -375,6 +397,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
         "settle_speed_p99_m_s": _p99_move(st.positions, prev) / CHUNK,
         "settle_speed_max_m_s": _max_move(st.positions, prev) / CHUNK,
         "settled": bool(speed < settings.settle_speed),
+        "settle_speeds_m_s": speeds,
         "slowed_points": int(dclock.get("slowed", 0)),
         "sewing_s": t_sewn - t_start, "settling_s": t_end - t_sewn,
         "dressing_s": t_end - t_start,

@@ -36,8 +36,8 @@ from catwalk.simulate.dressing import (
     _never,
     _quiet,
     advance,
+    collide_and_floor,
     collisions_for,
-    floor_contact,
 )
 from catwalk.simulate.garment_cloth import seam_gaps
 from catwalk.simulate.metrics import BodySurface, penetration
@@ -139,9 +139,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
             # the relaxation may have pulled free points into the body: settle the frame's
             # final positions against the body as it is at the frame's time
             t2 = time.perf_counter()
-            held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
-            state.held = np.asarray(held, dtype=bool)
-            floor_contact(state, collider.thickness, collider.friction)
+            collide_and_floor(state, collider, x0, 1.0)
             tc += time.perf_counter() - t2
         except ClothExplosionError as exc:
             raise ClothExplosionError(f"walk frame {f - n_pre} (t = {(f - n_pre) * frame_dt:.3f} "
