@@ -328,11 +328,12 @@ def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:
     node = np.repeat(leaf, cnt)
     refs = np.concatenate([h.tris[s:s + c] for s, c in zip(h.links[leaf, 2], cnt, strict=True)]) \
         if len(leaf) else np.zeros(0, np.int64)
-    pairs = np.c_[np.repeat(node, 3), f[refs].ravel()]
-    pairs = np.unique(pairs, axis=0) if len(pairs) else pairs.reshape(0, 2)
+    # distinct (node, vertex) pairs in node-then-vertex order, as one int64 key each
+    nv = int(f.max()) + 1 if f.size else 1
+    keys = np.unique(np.repeat(node, 3) * nv + f[refs].ravel())
     start = np.zeros(k + 1, np.int64)
-    np.add.at(start, pairs[:, 0] + 1, 1)
-    return np.cumsum(start), np.ascontiguousarray(pairs[:, 1], dtype=np.int64)
+    np.add.at(start, keys // nv + 1, 1)
+    return np.cumsum(start), np.ascontiguousarray(keys % nv, dtype=np.int64)
 
 
 @numba.njit(cache=True, _nrt=False)
