@@ -17,6 +17,11 @@ const VERSION = '4.10.2'
 const here = dirname(fileURLToPath(import.meta.url))
 const config = JSON.parse(readFileSync(join(here, 'designs.json'), 'utf8'))
 const recipes = JSON.parse(readFileSync(join(here, config.recipes), 'utf8')).bodies
+// lengths measured on our sample bodies (`catwalk garment freesewing-lengths`), in place of
+// the model set's
+const lengths = config.lengths
+  ? JSON.parse(readFileSync(join(here, config.lengths), 'utf8')).bodies
+  : {}
 
 // girths that follow chest, waist and seat when a model set is fitted to a recipe
 const WITH_CHEST = ['highBust', 'underbust', 'bustFront', 'highBustFront', 'biceps', 'neck']
@@ -42,8 +47,11 @@ function measurementsFor(sex, size) {
   for (const n of WITH_CHEST) if (n in m) m[n] *= k.chest
   for (const n of WITH_WAIST) if (n in m) m[n] *= k.waist
   for (const n of WITH_SEAT) if (n in m) m[n] *= k.seat
+  const own = lengths[recipe.name] ?? {}
+  for (const [n, v] of Object.entries(own)) m[n] = v
   for (const n of Object.keys(m)) m[n] = Math.round(m[n] * 10) / 10
-  return { model: `${group}${best.s}`, recipe: recipe.name, measurements: m }
+  return { model: `${group}${best.s}`, recipe: recipe.name, measurements: m,
+           lengthsFromBody: Object.keys(own) }
 }
 
 const r3 = (v) => Math.round(v * 1000) / 1000

@@ -143,3 +143,21 @@ def test_seam_pairing_agrees_with_placement(name):
         kept = np.linalg.norm(a - (b[::-1] if rev else b), axis=1).sum()
         flipped = np.linalg.norm(a - (b if rev else b[::-1]), axis=1).sum()
         assert kept <= flipped + 1e-9, (g.seams[i].name, kept, flipped)
+
+
+def test_freesewing_lengths_are_our_bodies_and_up_to_date(tmp_path):
+    """The lengths the FreeSewing drafts use are measured on our sample bodies (as committed
+    in lengths.json) and are plausible for them."""
+    from catwalk.body.commands import load_recipes
+    from catwalk.garment.freesewing import BODY_LENGTHS, freesewing_lengths
+
+    committed = json.loads((ROOT / "freesewing" / "lengths.json").read_text())["bodies"]
+    assert set(committed) == {r["name"] for r in load_recipes()}
+    recipe = next(r for r in load_recipes() if r["name"] == "female-M")
+    got = freesewing_lengths([recipe])["female-M"]
+    assert set(got) == set(BODY_LENGTHS)
+    for k in BODY_LENGTHS:
+        assert got[k] == pytest.approx(committed["female-M"][k], abs=1.0), k
+    assert 0.6 * recipe["height"] * 1000 < got["waistToFloor"] < 0.7 * recipe["height"] * 1000
+    assert got["inseam"] < got["waistToFloor"] and got["waistToKnee"] < got["waistToFloor"]
+    assert 400 < got["shoulderToWrist"] < 650

@@ -8,6 +8,8 @@
   [--type T] [--texture IMG] [--fabric F] -o OUT.json``
 - ``catwalk garment export-dxf G.json [--style clo|gerber] [--units METRIC|ENGLISH] -o P.dxf``
 - ``catwalk garment catalogue``: rebuild ``garments/`` from its sources and check every garment
+- ``catwalk garment freesewing-lengths [-o garments/freesewing/lengths.json]``: the sample
+  bodies' lengths that ``garments/freesewing/draft.mjs`` drafts with
 - ``catwalk garment info FILE [--size S] [--json]``: panels, areas, seam lengths
 """
 
@@ -140,6 +142,27 @@ def _catalogue(args) -> int:
     return 0
 
 
+def _freesewing_lengths(args) -> int:
+    from catwalk.garment.freesewing import BODY_LENGTHS, freesewing_lengths
+
+    data = {"about": "Lengths (mm) of catwalk's sample bodies (bodies/recipes.json) that "
+                     "draft.mjs puts in place of the FreeSewing model set's: "
+                     + ", ".join(BODY_LENGTHS)
+                     + ". Made by `catwalk garment freesewing-lengths`.",
+            "bodies": freesewing_lengths()}
+    text = json.dumps(data, indent=1) + "\n"
+    if args.output == "-":
+        print(text, end="")
+        return 0
+    out = Path(args.output)
+    tmp = out.with_suffix(out.suffix + ".tmp")
+    tmp.write_text(text)
+    tmp.replace(out)
+    for name, v in data["bodies"].items():
+        print(f"{name}: " + ", ".join(f"{k} {x:.0f} mm" for k, x in v.items()))
+    return 0
+
+
 def _export_dxf(args) -> int:
     from catwalk.garment.dxf import write_dxf
     from catwalk.garment.model import load_garment
@@ -247,6 +270,14 @@ def register(top, groups) -> None:
     p.add_argument("--root", default=None, help="the garments folder (default: the repo's)")
     p.add_argument("--only", nargs="*", help="only these garment ids")
     p.set_defaults(func=_catalogue)
+
+    p = sub.add_parser("freesewing-lengths",
+                       help="the sample bodies' lengths (mm) that the FreeSewing drafts use")
+    p.add_argument("-o", "--output", default=str(Path(__file__).resolve().parents[3] / "garments"
+                                                 / "freesewing" / "lengths.json"),
+                   help="where to write them (default garments/freesewing/lengths.json; - for "
+                        "stdout)")
+    p.set_defaults(func=_freesewing_lengths)
 
     p = sub.add_parser("info", help="panels (area, perimeter) and seam lengths of a garment")
     p.add_argument("file")

@@ -166,3 +166,30 @@ def describe(g: Garment, size: str | None = None) -> str:
             lines.append(f"  v{i:<3} ({s.start[0]:+.4f}, {s.start[1]:+.4f})  edge {i}: {s.kind:<9} "
                          f"{lens[i]:.4f} m")
     return "\n".join(lines)
+
+
+#: FreeSewing measurements (mm) that ``freesewing_lengths`` takes from our sample bodies: the
+#: model sets' lengths are not our bodies' (the base female's arm is 47 cm from shoulder to
+#: wrist against the models' 59–61 cm; male-L's waist is 1.07 m up against 1.18 m).
+BODY_LENGTHS = ("waistToFloor", "waistToKnee", "inseam", "shoulderToWrist")
+
+
+def freesewing_lengths(recipes: list[dict] | None = None) -> dict:
+    """For every sample body (``bodies/recipes.json``, made once into bodies/generated/):
+    the lengths in :data:`BODY_LENGTHS`, in mm, measured on the body as
+    ``catwalk body measure`` does (waist, knee and crotch heights above the soles, the arm
+    from the shoulder point through the elbow to the wrist)."""
+    from catwalk.body.commands import load_recipes, sample_body
+    from catwalk.body.measure import measure_body
+
+    out = {}
+    for r in recipes if recipes is not None else load_recipes():
+        body = sample_body(r["name"])
+        m = measure_body(body.vertices, body.faces, r["sex"])
+        lm = m["landmarks"]
+        floor = float(body.vertices[:, 1].min())
+        knee = 0.5 * (lm["knee_left"][1] + lm["knee_right"][1])
+        mm = {"waistToFloor": lm["waist"][1] - floor, "waistToKnee": lm["waist"][1] - knee,
+              "inseam": m["inseam"], "shoulderToWrist": m["arm_length"]}
+        out[r["name"]] = {k: round(1000.0 * float(mm[k]), 1) for k in BODY_LENGTHS}
+    return out

@@ -46,7 +46,7 @@ from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gap
 from catwalk.simulate.settings import PRESETS, Settings
 
 CHUNK = 1.0 / 30.0
-SETTLE_AIR = 3.0   # 1/s of extra air drag while the garment settles (terminal speed g/3)
+SETTLE_AIR = 10.0   # 1/s of extra air drag while the garment settles (terminal speed g/10)
 ORDER_TOLERANCE = 0.05   # recompute the strain-limit order when 5 % of the contacts changed
 # m/s. Cloth on a walking body moves at most a few m/s (a swinging hand ≈ 4); a point faster
 # than this after a collision response is a local conflict (the body pushing cloth against

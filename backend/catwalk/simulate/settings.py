@@ -38,7 +38,7 @@ class Settings:
     max_move: float = 0.005
     min_collisions: int = 20
     max_collisions: int = 60
-    sew_collisions: int = 20
+    sew_collisions: int = 10
     sew_omega: float = 500.0
     sew_seconds: float = 2.0
     sew_stall_seconds: float = 0.3
