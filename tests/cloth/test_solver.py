@@ -216,9 +216,9 @@ def _flat_sheet():
 def test_contact_planes_hold_points_between_collision_responses():
     m, st = _flat_sheet()
     n = m.n_points
-    planes = np.zeros((n, 5))
+    planes = np.zeros((n, 8))
     held = np.arange(n) % 2 == 0          # half the points rest on the plane y = 0.05
-    planes[held] = (0.0, 1.0, 0.0, 0.05, 0.0)
+    planes[held] = (0.0, 1.0, 0.0, 0.05, 0.0, 0.0, 0.0, 0.0)
     st.planes, st.plane_time = planes, st.time
     sol = Solver(m, "ordered")
     sol.run(m, st, 0.3)
@@ -229,14 +229,32 @@ def test_contact_planes_hold_points_between_collision_responses():
     assert y[~held].min() < 0.05 - 1e-3            # the others hang between them under gravity
     # a plane moving with the body (0.2 m/s along its normal) carries its point along
     m, st = _flat_sheet()
-    planes = np.zeros((n, 5))
-    planes[:] = (0.0, 1.0, 0.0, 0.05, 0.2)
+    planes = np.zeros((n, 8))
+    planes[:] = (0.0, 1.0, 0.0, 0.05, 0.0, 0.2, 0.0, 0.0)
     st.planes, st.plane_time = planes, st.time
     sol = Solver(m, "ordered")
     sol.run(m, st, 0.25)
     assert st.positions[:, 1] == pytest.approx(0.05 + 0.2 * st.time, abs=1e-9)
     # no planes (None) or planes of another size: the solver ignores them
     m, st = _flat_sheet()
-    st.planes = np.zeros((3, 5))
+    st.planes = np.zeros((3, 8))
     Solver(m, "ordered").run(m, st, 0.1)
     assert st.positions[:, 1].max() < 0.05
+
+
+def test_contact_planes_apply_coulomb_friction_relative_to_the_body():
+    def slide(mu, body_vx=0.0):
+        m, st = _flat_sheet()
+        st.positions[:, 1] = 0.05
+        st.velocities[:, 0] = 1.0
+        st.planes = np.tile([0.0, 1.0, 0.0, 0.05, body_vx, 0.0, 0.0, mu], (m.n_points, 1))
+        st.plane_time = st.time
+        Solver(m, "ordered").run(m, st, 0.1)
+        return float(st.velocities[:, 0].mean())
+
+    # gravity presses the sheet on the plane: friction takes μ·g·t of the sliding speed
+    assert slide(0.0) - slide(0.5) == pytest.approx(0.5 * 9.81 * 0.1, rel=0.05)
+    # a body moving with the cloth carries it along (against the air drag that slows it
+    # on a frictionless plane)
+    carried = slide(0.5, body_vx=1.0)
+    assert carried == pytest.approx(1.0, abs=1e-6) and carried > slide(0.0) + 0.02

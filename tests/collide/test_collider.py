@@ -300,7 +300,7 @@ def test_held_points_get_their_contact_plane(mode):
     pos = _shell(2000, centre, R - 0.012, R + 0.03)
     held = c.resolve(pos, np.zeros_like(pos), pos.copy())
     p = c.planes
-    assert p.shape == (len(pos), 5)
+    assert p.shape == (len(pos), 8)
     nl = np.linalg.norm(p[:, :3], axis=1)
     assert held.sum() > 300
     assert np.allclose(nl[held], 1.0) and np.all(nl[~held] == 0.0)
@@ -312,4 +312,5 @@ def test_held_points_get_their_contact_plane(mode):
     assert side.min() >= -1e-9
     surface = p[held, 3] - np.einsum("ij,j->i", p[held, :3], centre)   # n·(q − centre)
     assert np.median(surface) == pytest.approx(R + T, abs=0.002)
-    assert np.all(p[held, 4] == 0.0)   # a body standing still
+    assert np.all(p[held, 4:7] == 0.0)   # a body standing still
+    assert np.all(p[held, 7] == c.friction)

@@ -548,26 +548,40 @@ def advance_positions(X, V, R, dt, use_r, XPREV):
 @numba.njit(cache=True, error_model="numpy")
 def apply_planes(X, V, idx, planes, t):
     """Contact planes between two collision responses: point ``idx[k]`` stays on the side
-    n·x ≥ c + u·t of its plane ``planes[k]`` = (n, c, u) (u: the body's speed along n, ``t``:
-    the time since the plane was set); a point behind it goes back onto it and loses the
-    velocity it had into the plane relative to the body. Cheap (no search), it stops cloth
-    held by the body sinking in step after step between two responses of the collider, whose
-    next push would come back as a jolt."""
+    n·x ≥ c + (n·w)·t of its plane ``planes[k]`` = (n, c, w, μ) (w: the body's velocity
+    there, ``t``: the time since the plane was set, μ: friction). A point behind it goes back
+    onto it; its velocity relative to the body loses its part into the plane and, by Coulomb
+    friction, μ times that much of its sliding speed (as the collider's response does).
+    Cheap (no search), it stops cloth held by the body sinking in step after step between two
+    responses of the collider, whose next push would come back as a jolt."""
     for k in range(idx.shape[0]):
         i = idx[k]
         nx = planes[k, 0]
         ny = planes[k, 1]
         nz = planes[k, 2]
-        d = nx * X[0, i] + ny * X[1, i] + nz * X[2, i] - planes[k, 3] - planes[k, 4] * t
+        wx = planes[k, 4]
+        wy = planes[k, 5]
+        wz = planes[k, 6]
+        d = nx * X[0, i] + ny * X[1, i] + nz * X[2, i] - planes[k, 3] - \
+            (nx * wx + ny * wy + nz * wz) * t
         if d < 0.0:
             X[0, i] -= d * nx
             X[1, i] -= d * ny
             X[2, i] -= d * nz
-            vn = nx * V[0, i] + ny * V[1, i] + nz * V[2, i] - planes[k, 4]
+            rx = V[0, i] - wx
+            ry = V[1, i] - wy
+            rz = V[2, i] - wz
+            vn = nx * rx + ny * ry + nz * rz
             if vn < 0.0:
-                V[0, i] -= vn * nx
-                V[1, i] -= vn * ny
-                V[2, i] -= vn * nz
+                rx -= vn * nx
+                ry -= vn * ny
+                rz -= vn * nz
+                tl = np.sqrt(rx * rx + ry * ry + rz * rz)
+                dv = -planes[k, 7] * vn
+                f = max(tl - dv, 0.0) / tl if tl > 0.0 else 0.0
+                V[0, i] = wx + f * rx
+                V[1, i] = wy + f * ry
+                V[2, i] = wz + f * rz
 
 
 @numba.njit(cache=True, error_model="numpy")

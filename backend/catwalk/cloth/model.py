@@ -81,6 +81,10 @@ class ClothModel:
                 "triangles": len(self.triangles), "seam_pairs": len(self.seam_a)}
 
 
+#: numbers per contact plane in :attr:`State.planes` (normal 3, offset, body velocity 3, μ)
+PLANE_COLUMNS = 8
+
+
 @dataclass
 class State:
     """Positions and velocities at one time, plus the scene's kinematic facts.
@@ -89,11 +93,11 @@ class State:
     so a script may move them); they are high-tension centres of the ordered pass.
     ``held`` (n,) bool: points the collider reported as held by the body on the last step.
     ``failed`` is set when the solver detected NaN/explosion; a failed state is refused.
-    ``planes`` (n, 5) or None: the contact planes a collision response left (unit normal,
-    offset c, the body's speed along the normal; zero normal: none), set at time
+    ``planes`` (n, 8) or None: the contact planes a collision response left (unit normal n,
+    offset c, the body's velocity w there, friction μ; zero normal: none), set at time
     ``plane_time``; until the next response the solver keeps each such point on its side,
-    n·x ≥ c + speed·(t − ``plane_time``) (the body's surface seen from the point, offset by
-    the cloth's thickness), so it does not sink between two responses.
+    n·x ≥ c + (n·w)·(t − ``plane_time``) (the body's surface seen from the point, offset by
+    the cloth's thickness), with Coulomb friction, so it does not sink between two responses.
     """
 
     positions: np.ndarray

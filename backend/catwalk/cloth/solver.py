@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from catwalk.cloth import kernels as K
-from catwalk.cloth.model import ClothModel, State
+from catwalk.cloth.model import PLANE_COLUMNS, ClothModel, State
 from catwalk.errors import CatwalkError
 
 METHODS = {"none": K.METHOD_NONE, "ordered": K.METHOD_ORDERED, "vassilev": K.METHOD_VASSILEV,
@@ -48,7 +48,7 @@ GRAVITY = (0.0, -9.81, 0.0)
 
 
 _NO_PLANE_IDX = np.zeros(0, dtype=np.int64)
-_NO_PLANES = np.zeros((0, 5))
+_NO_PLANES = np.zeros((0, PLANE_COLUMNS))
 
 
 class ClothExplosionError(CatwalkError):
@@ -330,9 +330,9 @@ class Solver:
         return status
 
     def _planes(self, state):
-        """The state's contact planes as (point indices, (m, 5) planes, time since set)."""
+        """The state's contact planes as (point indices, (m, 8) planes, time since set)."""
         p = state.planes
-        if p is None or p.shape != (state.positions.shape[0], 5):
+        if p is None or p.shape != (state.positions.shape[0], PLANE_COLUMNS):
             return _NO_PLANE_IDX, _NO_PLANES, 0.0
         idx = np.flatnonzero(p[:, 0] * p[:, 0] + p[:, 1] * p[:, 1] + p[:, 2] * p[:, 2] > 0.5)
         return idx.astype(np.int64), np.ascontiguousarray(p[idx]), state.time - state.plane_time

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from catwalk.cloth.model import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
 from catwalk.errors import CatwalkError
@@ -50,6 +51,7 @@ class Timings:
     parts_refit: int = 0
     parts_skipped: int = 0
     counters: dict = field(default_factory=dict)
+
 
 
 def face_parts(faces, parts) -> np.ndarray:
@@ -223,9 +225,9 @@ class Collider:
         self._substeps = None
         self._cache_n = -1
         self.stats = np.zeros(K.N_STATS, np.int64)
-        # (P, 5) after each resolve: the held points' contact planes (normal, offset, the
-        # body's normal speed; normal 0 for points not held), see kernels.record_plane
-        self.planes = np.zeros((0, 5))
+        # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
+        # body's velocity, friction; normal 0 for points not held), see kernels.record_plane
+        self.planes = np.zeros((0, PLANE_COLUMNS))
         self.timings = Timings()
         self._torso_lo = np.zeros(3)
         self._torso_hi = np.zeros(3)
@@ -443,7 +445,7 @@ class Collider:
         self.timings.substeps += 1
         held = np.zeros(n, dtype=bool)
         if self.planes.shape[0] != n:
-            self.planes = np.zeros((n, 5))
+            self.planes = np.zeros((n, PLANE_COLUMNS))
         else:
             self.planes[:, :3] = 0.0
         if n == 0:

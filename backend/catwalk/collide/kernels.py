@@ -67,16 +67,20 @@ def respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
-def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz):
+def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
     """Point i (at p, signed distance s along the unit normal n) is held: its contact plane
-    is the body's surface offset by ``thickness``, n·x ≥ n·p + thickness − s, moving with the
-    body's speed along n (the cloth solver keeps the point on its side until the next
-    response: :func:`catwalk.cloth.kernels.apply_planes`)."""
+    (``planes[i]``, 8 numbers) is the body's surface offset by ``thickness``,
+    n·x ≥ n·p + thickness − s (0–2: n, 3: that offset), moving with the body's velocity there
+    (4–6), with the friction coefficient (7); the cloth solver keeps the point on its side
+    until the next response (:func:`catwalk.cloth.kernels.apply_planes`)."""
     planes[i, 0] = nx
     planes[i, 1] = ny
     planes[i, 2] = nz
     planes[i, 3] = nx * px + ny * py + nz * pz + thickness - s
-    planes[i, 4] = nx * bvx + ny * bvy + nz * bvz
+    planes[i, 4] = bvx
+    planes[i, 5] = bvy
+    planes[i, 6] = bvz
+    planes[i, 7] = friction
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -236,9 +240,9 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     position). ``prev``/``alpha_prev``: the previous positions and time, used for a point
     never seen. ``lf`` (R,3) int32: the vertices of each reference in ``tris``.
 
-    ``planes`` (P,5): for each held point its contact plane, written as it is found: the unit
-    normal (0–2), the offset c (3: the point is outside while n·x ≥ c, the surface offset by
-    the thickness) and the body's speed along n (4); see :func:`record_plane`."""
+    ``planes`` (P,8): for each held point its contact plane, written as it is found (the unit
+    normal, the offset of the surface plus the thickness, the body's velocity, the friction
+    coefficient; :func:`record_plane`)."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -532,7 +536,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
             alpha * (bu * rec[i, 16] + bv * rec[i, 34] + bw * rec[i, 52])
         bvz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
             alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
-        record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz)
+        record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
         if s >= thickness:
             continue  # touching: held, nothing to fix
         respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
@@ -737,7 +741,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         held[i] = True
         n_contact += 1
         record_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], nx, ny, nz, s, thickness, bvx,
-                     bvy, bvz)
+                     bvy, bvz, friction)
         if s < thickness:
             respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
     stats[ST_SKIPPED] += n_skip

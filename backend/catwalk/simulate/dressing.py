@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from catwalk.cloth.model import ClothModel, State
+from catwalk.cloth.model import PLANE_COLUMNS, ClothModel, State
 from catwalk.cloth.solver import ClothExplosionError, Solver, max_strain
 from catwalk.collide import make_collider
 from catwalk.errors import CatwalkError
@@ -115,14 +115,14 @@ def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | Non
     body = state.held.copy()
     floor_contact(state, collider.thickness, collider.friction)
     planes = getattr(collider, "planes", None)
-    if planes is None or planes.shape != (len(state.held), 5):
+    if planes is None or planes.shape != (len(state.held), PLANE_COLUMNS):
         state.planes = None
         return
     if state.planes is None or state.planes.shape != planes.shape:
         state.planes = np.empty_like(planes)
     state.planes[:] = planes
     floor = state.held & ~body
-    state.planes[floor] = (0.0, 1.0, 0.0, collider.thickness, 0.0)
+    state.planes[floor] = (0.0, 1.0, 0.0, collider.thickness, 0.0, 0.0, 0.0, collider.friction)
     state.plane_time = state.time
 
 
