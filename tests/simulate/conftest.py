@@ -10,6 +10,14 @@ def dressable_body():
 
 
 @pytest.fixture(scope="session")
+def male_body():
+    """The male MakeHuman base body, rigged, with landmarks and girths."""
+    from catwalk.body.rig import measured_base_body
+
+    return measured_base_body(1.0)
+
+
+@pytest.fixture(scope="session")
 def body_glb(dressable_body, tmp_path_factory):
     from catwalk.export.gltf import write_glb
 

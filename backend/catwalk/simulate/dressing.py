@@ -14,10 +14,13 @@
    simulated time.
 3. **Weld**: pairs within ``weld_reach`` become one particle
    (:func:`~catwalk.simulate.garment_cloth.weld`); the others keep pulling while the garment
-   settles and are welded as they close. A seam still open by more than ``max_open_gap`` at
-   the end fails the dressing with its name and gap.
+   settles and are welded as they close (to ``weld_gap``); once the garment is at rest, or
+   the settling time is up, the pairs still within ``weld_reach`` are welded too and it
+   settles again (at most ``FINAL_SETTLE_SECONDS`` more when the time was up). A seam still
+   open by more than ``max_open_gap`` at the end fails the dressing with its name and gap.
 4. **Settle**: gravity and the fabric's friction, until the points' RMS speed (the kinetic
-   energy) falls under ``settle_speed`` or ``settle_seconds`` have passed (reported as not
+   energy) falls under ``settle_speed`` with every seam welded, or ``settle_seconds`` have
+   passed (reported as not
    settled, with the speed reached). Points held by the body stay tension centres of the
    ordered pass but are not fixed in it (``held_fixed=False``): with them fixed, cloth
    pinched between two held points (a waistband on the hips) cannot be corrected and its
@@ -54,6 +57,7 @@ ORDER_TOLERANCE = 0.05   # recompute the strain-limit order when 5 % of the cont
 # (metrics: ``slowed_points``) instead of growing into a blow-up.
 MAX_CLOTH_SPEED = 10.0
 MIN_SEW_SECONDS = 0.8   # sewing is not given up as stalled before this (gaps plateau a while)
+FINAL_SETTLE_SECONDS = 0.5   # settling after the last pairs within reach are welded at rest
 
 
 class Cancelled(CatwalkError):
@@ -341,7 +345,9 @@ def dress(body, garment, size: str | None = None, fabric=None,
     speed = float("inf")
     speeds = []
     settled_chunks = 0
-    for i in range(chunks):
+    limit = chunks
+    i = 0
+    while i < limit:
         if cancel():
             raise Cancelled("dressing cancelled")
         prev[:] = st.positions
@@ -349,16 +355,24 @@ def dress(body, garment, size: str | None = None, fabric=None,
                 settings.max_collisions * 4, dclock)
         speed = _rms_move(st.positions, prev) / CHUNK   # √(2·kinetic energy / mass)
         speeds.append(round(speed, 4))
-        settled_chunks = i + 1
-        progress("settling", i + 1, chunks)
+        i += 1
+        settled_chunks = i
+        progress("settling", i, limit)
         if len(welded.seam_a):
-            closed = seam_gaps(welded, st.positions) <= settings.weld_gap
+            # pairs are welded as they close; once the garment is at rest (or the time is
+            # up) the pairs still within reach are welded too, and it settles once more
+            at_rest = speed < settings.settle_speed or i == limit
+            gaps = seam_gaps(welded, st.positions)
+            closed = gaps <= (settings.weld_reach if at_rest else settings.weld_gap)
             if closed.any():
                 welded, rep2, st = _weld_state(welded, st, closed)
                 rep = rep2[rep]
                 solver = settle_solver(welded)
                 x0 = st.positions.copy()
                 prev = prev_of(prev, rep2, welded)
+                if i == limit == chunks:   # the time was up: once, a little more
+                    limit += round(FINAL_SETTLE_SECONDS / CHUNK)
+                continue
         if speed < settings.settle_speed and not len(welded.seam_a):
             break
     # the last correction may have pulled free points a little into the body

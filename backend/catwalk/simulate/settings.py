@@ -35,8 +35,8 @@ class Settings:
     map_size: int = 256
     thickness: float = 0.004
     friction: float | None = None
-    max_move: float = 0.005
-    min_collisions: int = 20
+    max_move: float = 0.01
+    min_collisions: int = 10
     max_collisions: int = 60
     sew_collisions: int = 10
     sew_omega: float = 500.0
@@ -78,7 +78,7 @@ class Settings:
 
 
 PRESETS: dict[str, Settings] = {
-    "fast": Settings(name="fast", h=0.025, map_size=128, max_move=0.01, min_collisions=10,
+    "fast": Settings(name="fast", h=0.025, map_size=128, max_move=0.015, min_collisions=6,
                      sew_collisions=10,
                      sew_seconds=1.5, settle_seconds=1.5, blend_seconds=0.4),
     "balanced": Settings(),
