@@ -9,7 +9,10 @@ step, and the strain limit (the paper's ordered velocity pass, or a baseline).
 2. v ← v + dt·f/m for every point that is not pinned (eq. 3);
 3. strain limit on velocities (``ordered``: the paper; ``vassilev``: Vassilev et al. 2001,
    unordered) so that no stretch/shear spring ends the step longer than (1+τ)·rest;
-4. x ← x + dt·v (eq. 3), then ``provot``: Provot 1995's iterated, unordered position correction;
+4. x ← x + dt·v (eq. 3); the contact planes a collision response left in the state
+   (``State.planes``) keep the points the body holds on its side, with friction, until the
+   next response (the explicit integrator only); then ``provot``: Provot 1995's iterated,
+   unordered position correction;
 5. the collider, if any: ``collider.resolve(positions, velocities, previous_positions)`` fixes
    positions/velocities in place and returns the points held by the body (a bool mask, an
    index array or None); they become high-tension centres of the next steps' ordered pass.

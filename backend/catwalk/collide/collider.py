@@ -53,7 +53,6 @@ class Timings:
     counters: dict = field(default_factory=dict)
 
 
-
 def face_parts(faces, parts) -> np.ndarray:
     """Each face's part: the label most of its vertices carry (its first vertex's on a tie)."""
     p = np.asarray(parts, dtype=np.int64)[np.asarray(faces, dtype=np.int64)]

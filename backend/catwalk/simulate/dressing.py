@@ -20,12 +20,11 @@
    open by more than ``max_open_gap`` at the end fails the dressing with its name and gap.
 4. **Settle**: gravity and the fabric's friction, until the points' RMS speed (the kinetic
    energy) falls under ``settle_speed`` with every seam welded, or ``settle_seconds`` have
-   passed (reported as not
-   settled, with the speed reached). Points held by the body stay tension centres of the
-   ordered pass but are not fixed in it (``held_fixed=False``): with them fixed, cloth
-   pinched between two held points (a waistband on the hips) cannot be corrected and its
-   strain runs away (measured: 0.36 after 0.5 s on the pencil skirt, against 0.10 with them
-   free).
+   passed (reported as not settled, with the speed reached). Points held by the body stay
+   tension centres of the ordered pass but are not fixed in it (``held_fixed=False``): with
+   them fixed, cloth pinched between two held points (a waistband on the hips) cannot be
+   corrected and its strain runs away (measured: 0.36 after 0.5 s on the pencil skirt,
+   against 0.10 with them free).
 
 Collisions are resolved ``n`` times per 1/30 s, ``n`` from how far the cloth moved in the
 previous 1/30 s (at most ``max_move`` between two resolves). Everything reports progress as
