@@ -161,3 +161,12 @@ def test_freesewing_lengths_are_our_bodies_and_up_to_date(tmp_path):
     assert 0.6 * recipe["height"] * 1000 < got["waistToFloor"] < 0.7 * recipe["height"] * 1000
     assert got["inseam"] < got["waistToFloor"] and got["waistToKnee"] < got["waistToFloor"]
     assert 400 < got["shoulderToWrist"] < 650
+
+
+def test_freesewing_lengths_cli_refuses_an_unwritable_output_at_once(tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    code, _, err = cli(["garment", "freesewing-lengths", "-o", str(blocker / "lengths.json")],
+                       capsys)
+    assert code == 2 and "not a writable folder" in err
+    assert blocker.read_text() == "not a folder" and list(tmp_path.iterdir()) == [blocker]

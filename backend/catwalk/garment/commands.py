@@ -143,8 +143,17 @@ def _catalogue(args) -> int:
 
 
 def _freesewing_lengths(args) -> int:
+    import os
+
+    from catwalk.fileio import atomic_path
     from catwalk.garment.freesewing import BODY_LENGTHS, freesewing_lengths
 
+    if args.output != "-":   # before measuring a dozen bodies: can it be written at all?
+        parent = Path(args.output).resolve().parent
+        while not parent.exists():
+            parent = parent.parent
+        if not parent.is_dir() or not os.access(parent, os.W_OK):
+            raise InputError(f"-o {args.output}: {parent} is not a writable folder")
     data = {"about": "Lengths (mm) of catwalk's sample bodies (bodies/recipes.json) that "
                      "draft.mjs puts in place of the FreeSewing model set's: "
                      + ", ".join(BODY_LENGTHS)
@@ -154,10 +163,11 @@ def _freesewing_lengths(args) -> int:
     if args.output == "-":
         print(text, end="")
         return 0
-    out = Path(args.output)
-    tmp = out.with_suffix(out.suffix + ".tmp")
-    tmp.write_text(text)
-    tmp.replace(out)
+    try:
+        with atomic_path(args.output) as tmp:
+            tmp.write_text(text)
+    except OSError as exc:
+        raise InputError(f"-o {args.output}: cannot write it ({exc.strerror})") from None
     for name, v in data["bodies"].items():
         print(f"{name}: " + ", ".join(f"{k} {x:.0f} mm" for k, x in v.items()))
     return 0
