@@ -545,6 +545,27 @@ def advance_positions(X, V, R, dt, use_r, XPREV):
                 x[i] += dt * v[i]
 
 
+@numba.njit(cache=True, inline="always")
+def contact_velocity(vx, vy, vz, nx, ny, nz, wx, wy, wz, friction):
+    """A point's velocity v after it meets a surface of unit normal n moving at w: if it moves
+    into the surface (relative to it), that normal part goes and, by Coulomb friction, μ times
+    as much of its sliding speed (stopping at zero). Shared by the collider's response
+    (:func:`catwalk.collide.kernels.respond`) and the contact planes (:func:`apply_planes`)."""
+    rx = vx - wx
+    ry = vy - wy
+    rz = vz - wz
+    vn = rx * nx + ry * ny + rz * nz
+    if vn >= 0.0:
+        return vx, vy, vz
+    rx -= vn * nx
+    ry -= vn * ny
+    rz -= vn * nz
+    tl = np.sqrt(rx * rx + ry * ry + rz * rz)
+    dv = -friction * vn
+    f = 1.0 - dv / tl if tl > dv else 0.0
+    return wx + f * rx, wy + f * ry, wz + f * rz
+
+
 @numba.njit(cache=True, error_model="numpy")
 def apply_planes(X, V, idx, planes, t):
     """Contact planes between two collision responses: point ``idx[k]`` stays on the side
@@ -568,20 +589,8 @@ def apply_planes(X, V, idx, planes, t):
             X[0, i] -= d * nx
             X[1, i] -= d * ny
             X[2, i] -= d * nz
-            rx = V[0, i] - wx
-            ry = V[1, i] - wy
-            rz = V[2, i] - wz
-            vn = nx * rx + ny * ry + nz * rz
-            if vn < 0.0:
-                rx -= vn * nx
-                ry -= vn * ny
-                rz -= vn * nz
-                tl = np.sqrt(rx * rx + ry * ry + rz * rz)
-                dv = -planes[k, 7] * vn
-                f = max(tl - dv, 0.0) / tl if tl > 0.0 else 0.0
-                V[0, i] = wx + f * rx
-                V[1, i] = wy + f * ry
-                V[2, i] = wz + f * rz
+            V[0, i], V[1, i], V[2, i] = contact_velocity(V[0, i], V[1, i], V[2, i], nx, ny,
+                                                         nz, wx, wy, wz, planes[k, 7])
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -18,6 +18,7 @@ import math
 import numba
 import numpy as np
 
+from catwalk.cloth.kernels import contact_velocity
 from catwalk.collide.bvh import (
     _lerp_box_d2,
     closest_on_triangle,
@@ -41,28 +42,8 @@ def respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
     pos[i, 0] += d * nx
     pos[i, 1] += d * ny
     pos[i, 2] += d * nz
-    rx = vel[i, 0] - bvx
-    ry = vel[i, 1] - bvy
-    rz = vel[i, 2] - bvz
-    vn = rx * nx + ry * ny + rz * nz
-    if vn < 0.0:
-        rx -= vn * nx
-        ry -= vn * ny
-        rz -= vn * nz
-        tl = math.sqrt(rx * rx + ry * ry + rz * rz)
-        dv = -friction * vn
-        if tl <= dv:
-            rx = 0.0
-            ry = 0.0
-            rz = 0.0
-        elif tl > 0.0:
-            f = 1.0 - dv / tl
-            rx *= f
-            ry *= f
-            rz *= f
-        vel[i, 0] = bvx + rx
-        vel[i, 1] = bvy + ry
-        vel[i, 2] = bvz + rz
+    vel[i, 0], vel[i, 1], vel[i, 2] = contact_velocity(vel[i, 0], vel[i, 1], vel[i, 2], nx, ny,
+                                                       nz, bvx, bvy, bvz, friction)
 
 
 
