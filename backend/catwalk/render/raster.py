@@ -57,6 +57,19 @@ CULL_NONE, CULL_BACK, CULL_FRONT = 0, 1, -1
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
+def _weight_span(w, d, eps, lo, hi):
+    """Narrow the column offsets [lo, hi] to where a barycentric weight w + d·offset is
+    >= −eps; (False, …) when it is nowhere."""
+    if d > 0.0:
+        lo = max(lo, (-eps - w) / d)
+    elif d < 0.0:
+        hi = min(hi, (-eps - w) / d)
+    elif w < -eps:
+        return False, lo, hi
+    return True, lo, hi
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
 def row_span(x0, y0, x1, y1, x2, y2, inv, d0, d1, d2, j0, j1, py, small, eps):
     """The columns of pixel row ``py`` (its centre's y) that the triangle covers, within
     [j0, j1]: returns (ok, ja, jb, w0s, w1s) with w0s, w1s the barycentric weights at column j0
@@ -70,27 +83,12 @@ def row_span(x0, y0, x1, y1, x2, y2, inv, d0, d1, d2, j0, j1, py, small, eps):
     if small:
         return True, j0, j1, w0s, w1s
     # the span of columns where all three weights are >= −eps
-    lo = 0.0
-    hi = float(j1 - j0)
-    if d0 > 0.0:
-        lo = max(lo, (-eps - w0s) / d0)
-    elif d0 < 0.0:
-        hi = min(hi, (-eps - w0s) / d0)
-    elif w0s < -eps:
-        return False, j0, j1, w0s, w1s
-    if d1 > 0.0:
-        lo = max(lo, (-eps - w1s) / d1)
-    elif d1 < 0.0:
-        hi = min(hi, (-eps - w1s) / d1)
-    elif w1s < -eps:
-        return False, j0, j1, w0s, w1s
-    if d2 > 0.0:
-        lo = max(lo, (-eps - w2s) / d2)
-    elif d2 < 0.0:
-        hi = min(hi, (-eps - w2s) / d2)
-    elif w2s < -eps:
-        return False, j0, j1, w0s, w1s
-    if lo > hi:
+    ok, lo, hi = _weight_span(w0s, d0, eps, 0.0, float(j1 - j0))
+    if ok:
+        ok, lo, hi = _weight_span(w1s, d1, eps, lo, hi)
+    if ok:
+        ok, lo, hi = _weight_span(w2s, d2, eps, lo, hi)
+    if not ok or lo > hi:
         return False, j0, j1, w0s, w1s
     ja = max(j0 + int(math.ceil(lo - 1e-7)), j0)
     jb = min(j0 + int(math.floor(hi + 1e-7)), j1)
