@@ -112,6 +112,7 @@ def run(body, cloth, mode: str, substeps: int, drift: float = 0.05, skips: Skips
         "box_skips_per_substep": round(st[5] / ns, 1),
         "nodes_per_substep": round(st[4] / ns, 1),
         "triangles_tested_per_substep": round(st[7] / ns, 1),
+        "edge_fallbacks_per_substep": round(st[8] / ns, 1),
         "frames": tm.frames,
         "substeps": substeps,
         **{k: v for k, v in c.describe().items() if k not in ("mode",)},

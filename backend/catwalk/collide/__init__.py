@@ -39,6 +39,10 @@ Method:
   per-pixel interpolated vertex normal and body velocity. A point is inside when its depth lies
   between the back and the front surfaces at its pixel (bilinear over covered pixels, linear in
   time between the previous and the current frame's maps); it goes to the nearer surface.
+  In ``hybrid`` the points the maps cannot answer (at the torso's silhouette, where its
+  surface turns away from both cameras: the flanks, under the crotch) go to object space
+  against every part, the torso's own hierarchy included (``edge_fallback=False``: the paper's
+  hybrid, the maps answer them too).
 * **Object space** (limbs in ``hybrid``, everything in ``object``): :mod:`catwalk.collide.bvh`,
   a hierarchy per part halving boxes across their largest dimension (spanning triangles in both
   halves), refitted per frame: each node keeps its box at the previous and the current frame,

@@ -53,6 +53,34 @@ class Timings:
     counters: dict = field(default_factory=dict)
 
 
+class _Points:
+    """What the object pass keeps per cloth point between calls (see
+    :func:`catwalk.collide.kernels.object_pass`), for one set of parts."""
+
+    def __init__(self, n: int):
+        self.n = n
+        self.cache_tri = np.full(n, -1, np.int64)
+        self.cache_p = np.zeros((n, 3))
+        self.cache_c = np.zeros((n, 3))
+        self.clear = np.zeros(n)
+        self.clear_rel = np.zeros(n)
+        self.rkey = np.full(n, -1, np.int64)
+        self.pspeed = np.zeros(n)
+        self.pstamp = np.full(n, -1, np.int64)
+        self.rec = np.zeros((n, 54), np.float32)
+        self.last = np.zeros((n, 3))
+        self.left = np.zeros((n, 3))
+        self.pclk = np.full((n, 5), -1.0)   # time < 0: never seen
+        self.csw = np.zeros((n, N_PARTS))
+        self.crel = np.zeros(n)
+        self.cstamp = np.full(n, -1, np.int64)
+        self.ct2 = np.full(n, -1, np.int64)
+        self.cp2 = np.zeros((n, 3))
+        self.cc2 = np.zeros((n, 3))
+        self.active_last = np.zeros(N_PARTS, bool)
+        self.clear_frame = -1
+
+
 def face_parts(faces, parts) -> np.ndarray:
     """Each face's part: the label most of its vertices carry (its first vertex's on a tie)."""
     p = np.asarray(parts, dtype=np.int64)[np.asarray(faces, dtype=np.int64)]
@@ -139,8 +167,8 @@ class Collider:
     def __init__(self, mode, body_faces, parts, *, map_size=(256, 256), thickness=0.004,
                  friction=0.3, contact_slack=0.0005, search_radius=0.02, max_depth=0.02,
                  reuse_tol=0.002,
-                 leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2,
-                 map_region_pad=0.05,
+                 leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
+                 map_region_pad=0.05, edge_fallback=True,
                  skips: Skips | None = None):
         if mode not in MODES:
             raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
@@ -156,6 +184,8 @@ class Collider:
                           ("max_depth", max_depth)):
             if not (np.isfinite(val) and val > 0):
                 raise CatwalkError(f"{name} must be a positive length in metres, got {val!r}")
+        if not (np.isfinite(edge_normal_z) and 0.0 <= edge_normal_z <= 1.0):
+            raise CatwalkError(f"edge_normal_z must be within 0..1, got {edge_normal_z!r}")
         if not (np.isfinite(friction) and friction >= 0):
             raise CatwalkError(f"friction must be >= 0, got {friction!r}")
         ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
@@ -175,6 +205,7 @@ class Collider:
         self.reuse_tol = float(reuse_tol)
         self.still_tol = float(still_tol)
         self.min_normal_z = float(min_normal_z)
+        self.edge_normal_z = float(edge_normal_z)
         self.map_region_pad = float(map_region_pad)
         self.leaf_size = int(leaf_size)
         self.skips = skips or Skips()
@@ -182,18 +213,22 @@ class Collider:
         in_tree = {"image": [], "hybrid": [1, 2, 3, 4], "object": range(5)}[mode]
         self.map_parts = np.zeros(N_PARTS, bool)
         self.map_parts[list(in_maps)] = True
+        present = np.bincount(self.face_part, minlength=N_PARTS) > 0
         self.tree_parts = np.zeros(N_PARTS, bool)
         self.tree_parts[list(in_tree)] = True
-        self.tree_parts &= np.bincount(self.face_part, minlength=N_PARTS) > 0
-        in_tree = list(np.nonzero(self.tree_parts)[0])
+        self.tree_parts &= present
+        # hybrid: the points the torso's maps cannot answer (at their silhouette, where the
+        # surface turns away from both cameras) go to object space against every part, the
+        # torso's own hierarchy included (built for them alone)
+        self.edge_fallback = bool(mode == "hybrid" and edge_fallback and present[0])
+        self.hier_parts = self.tree_parts | (self.map_parts & present & self.edge_fallback)
+        in_tree = list(np.nonzero(self.hier_parts)[0])
         map_faces = np.nonzero(self.map_parts[self.face_part])[0]
         self.maps = _Maps(self.faces, map_faces, ms, map_margin) if len(map_faces) else None
         self.map_vidx = self.maps.vidx if self.maps else np.zeros(0, np.int64)
         self._part_faces = {p: np.nonzero(self.face_part == p)[0] for p in in_tree}
         self._part_vidx = {p: np.unique(self.faces[f]) for p, f in self._part_faces.items()}
-        self._active_last = np.zeros(N_PARTS, bool)
-        self._clear_frame = -1
-        self._tree_vidx = np.unique(self.faces[np.nonzero(self.tree_parts[self.face_part])[0]])
+        self._tree_vidx = np.unique(self.faces[np.nonzero(self.hier_parts[self.face_part])[0]])
         # workspaces for the kernels (they run without numba's runtime, so never allocate)
         self._stack = np.empty(B.STACK_SIZE, np.int64)
         self._reach_work = np.zeros(N_PARTS, bool)
@@ -222,7 +257,9 @@ class Collider:
         self._calls = 0
         self._calls_last_frame = 0
         self._substeps = None
-        self._cache_n = -1
+        self._pts = self._edge_pts = None  # _Points of the object pass and of the edge fallback
+        self._edge = np.zeros(0, bool)
+        self._edge_seen = 0
         self.stats = np.zeros(K.N_STATS, np.int64)
         # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
         # body's velocity, friction; normal 0 for points not held), see kernels.record_plane
@@ -280,7 +317,7 @@ class Collider:
         self._normals_ready = False
         self._maps_ready = False
         self.timings.frames += 1
-        if first and self.tree_parts.any():
+        if first and self.hier_parts.any():
             self.tree = B.build(v, self.faces, self._part_faces, self.leaf_size)
             self._lv_start, self._lv = B.leaf_vertices(self.tree, self.faces)
             self._lf = np.ascontiguousarray(self.faces[self.tree.tris], dtype=np.int32)
@@ -453,15 +490,38 @@ class Collider:
         hi = np.full(3, -np.inf)
         K.bounds(pos, lo, hi)
         K.bounds(prev, lo, hi)
+        reach = None
         if self.tree is not None:
-            self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held)
+            reach = self._part_reach_cache(lo, hi) if self.skips.unreached_parts else \
+                self.hier_parts
+        use_edge = self.edge_fallback and reach is not None and bool(reach[0])
+        flagged = False
         if self.maps is not None:
-            self._image(pos, vel, alpha, lo, hi, held)
+            if use_edge:
+                if len(self._edge) != n:
+                    self._edge = np.zeros(n, bool)
+                    self._rest = np.ones(n, bool)
+                else:
+                    self._edge[:] = False
+            self._image(pos, vel, alpha, lo, hi, held, self._edge if use_edge else self._edge[:0])
+            flagged = use_edge and self.stats[K.ST_EDGE] > self._edge_seen
+            self._edge_seen = int(self.stats[K.ST_EDGE])
+        if self.tree is not None:
+            if flagged:
+                # the points the maps left alone: object space, every part in reach (the
+                # nearest surface of all, as in object mode); the others: the limbs
+                np.logical_not(self._edge, out=self._rest)
+                self._edge_pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held,
+                                              reach, self._edge_pts, self._edge)
+            if self.tree_parts.any():
+                self._pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held,
+                                         reach & self.tree_parts, self._pts,
+                                         self._rest if flagged else self._edge[:0])
         return held
 
     def _active_tree_parts(self, lo, hi):
         """Parts in hierarchies whose swept box (dilated) reaches the cloth's box."""
-        active = self.tree_parts.copy()
+        active = self.hier_parts.copy()
         if not self.skips.unreached_parts:
             return active
         pad = self.search_radius + self.thickness
@@ -493,44 +553,27 @@ class Collider:
             self.timings.parts_skipped += n_off
         return self._reach
 
-    def _object(self, pos, vel, prev, alpha, alpha_prev, lo, hi, held):
-        active = self._part_reach_cache(lo, hi) if self.skips.unreached_parts else \
-            self.tree_parts
-        if not active.any():
-            self.stats[K.ST_SKIPPED] += len(pos)
-            return
-        self._refit(active)
+    def _object(self, pos, vel, prev, alpha, alpha_prev, lo, hi, held, active, pts, only):
+        """The object pass over the ``active`` parts with the per-point state ``pts`` (made
+        when missing or of another size; returned); ``only``: the points to see (empty: all)."""
         n = len(pos)
-        if self._cache_n != n:
-            self._cache_tri = np.full(n, -1, np.int64)
-            self._cache_p = np.zeros((n, 3))
-            self._cache_c = np.zeros((n, 3))
-            self._clear = np.zeros(n)
-            self._clear_rel = np.zeros(n)
-            self._rkey = np.full(n, -1, np.int64)
-            self._pspeed = np.zeros(n)
-            self._pstamp = np.full(n, -1, np.int64)
-            self._rec = np.zeros((n, 54), np.float32)
-            self._last = np.zeros((n, 3))
-            self._left = np.zeros((n, 3))
-            self._pclk = np.full((n, 5), -1.0)   # time < 0: never seen
-            self._csw = np.zeros((n, N_PARTS))
-            self._crel = np.zeros(n)
-            self._cstamp = np.full(n, -1, np.int64)
-            self._ct2 = np.full(n, -1, np.int64)
-            self._cp2 = np.zeros((n, 3))
-            self._cc2 = np.zeros((n, 3))
-            self._cache_n = n
-        if np.any(active & ~self._active_last):
+        if not active.any():
+            if len(only) == 0:
+                self.stats[K.ST_SKIPPED] += n
+            return pts
+        self._refit(active)
+        if pts is None or pts.n != n:
+            pts = _Points(n)
+        if np.any(active & ~pts.active_last):
             # a part came into play: no clearance bounds it
-            self._clear_rel[:] = 0.0
-            self._cstamp[:] = -1
-            self._ct2[:] = -1
-        if self._clear_frame != self._frame or np.any(active & ~self._active_last):
+            pts.clear_rel[:] = 0.0
+            pts.cstamp[:] = -1
+            pts.ct2[:] = -1
+        if pts.clear_frame != self._frame or np.any(active & ~pts.active_last):
             # clearances hold against this frame's swept boxes of the parts then in play
-            self._clear[:] = 0.0
-            self._clear_frame = self._frame
-        self._active_last = active.copy()
+            pts.clear[:] = 0.0
+            pts.clear_frame = self._frame
+        pts.active_last = active.copy()
         self._pack()
         h = self.tree
         ck = self._clock
@@ -544,15 +587,16 @@ class Collider:
                       self.search_radius, self.max_depth, self.skips.far_points,
                       self.skips.reuse_closest, self.reuse_tol, self.skips.clearance,
                       self._body_speed,
-                      self._cache_tri, self._cache_p, self._cache_c, self._clear,
-                      self._clear_rel, held, self.stats, self._stack, self._reach_work,
-                      self._frame, self._rkey, self._rec, self._pspeed, self._pstamp,
-                      self._spd, self._last, self._pclk, ck, self._csw, self._crel,
-                      self._cstamp, self.search_radius, self._ct2, self._cp2, self._cc2,
-                      self._left, self._lf, self.planes)
+                      pts.cache_tri, pts.cache_p, pts.cache_c, pts.clear,
+                      pts.clear_rel, held, self.stats, self._stack, self._reach_work,
+                      self._frame, pts.rkey, pts.rec, pts.pspeed, pts.pstamp,
+                      self._spd, pts.last, pts.pclk, ck, pts.csw, pts.crel,
+                      pts.cstamp, self.search_radius, pts.ct2, pts.cp2, pts.cc2,
+                      pts.left, self._lf, self.planes, only)
         self.timings.object_queries += _clock() - t
+        return pts
 
-    def _image(self, pos, vel, alpha, lo, hi, held):
+    def _image(self, pos, vel, alpha, lo, hi, held, edge):
         if self.skips.unreached_parts and (np.any(self._torso_lo > hi) or
                                            np.any(self._torso_hi < lo)):
             self.stats[K.ST_SKIPPED] += len(pos)
@@ -565,16 +609,19 @@ class Collider:
             self._pkey = np.full((n, 3), -1, np.int64)
             self._pdep = np.zeros((n, 16), np.float32)
             self._patt = np.zeros((n, 12), np.float32)
+            self._pwin = np.zeros(n, np.int8)
             self._img_n = n
         K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
                      self._torso_lo, self._torso_hi, self.thickness, self.friction,
                      self.contact_slack, self.min_normal_z, self.skips.far_points, held,
-                     self.stats, self._pkey, self._pdep, self._patt, self.planes)
+                     self.stats, self._pkey, self._pdep, self._patt, self.planes, edge,
+                     self.edge_normal_z, self._pwin)
         self.timings.image_queries += _clock() - t
 
     # ------------------------------------------------------------------ reports
     def reset_stats(self) -> None:
         self.stats[:] = 0
+        self._edge_seen = 0
         self.timings = Timings()
 
     def depth_maps(self):
@@ -589,7 +636,8 @@ class Collider:
     def describe(self) -> dict:
         d = {"mode": self.mode, "thickness": self.thickness, "friction": self.friction,
              "map_parts": [PART_NAMES[p] for p in np.nonzero(self.map_parts)[0]],
-             "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]]}
+             "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]],
+             "edge_fallback": self.edge_fallback}
         if self.maps is not None:
             d["map_size"] = list(self.maps.size)
         if self.tree is not None:
@@ -603,5 +651,6 @@ def make_collider(mode, body_faces, parts, **options) -> Collider:
     ``image``: the whole body in depth maps; ``object``: every part in hierarchies) for a body
     with faces (M,3) and per-vertex ``parts`` (N,) (0 torso+head, 1 left arm, 2 right arm,
     3 left leg, 4 right leg). Options: see :class:`Collider` (thickness, friction, map_size,
-    search_radius, max_depth, reuse_tol, leaf_size, skips=Skips(...))."""
+    search_radius, max_depth, reuse_tol, leaf_size, edge_fallback, edge_normal_z,
+    skips=Skips(...))."""
     return Collider(mode, body_faces, parts, **options)

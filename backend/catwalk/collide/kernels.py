@@ -28,10 +28,12 @@ from catwalk.collide.bvh import (
 )
 from catwalk.render.raster import row_span
 
-ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS = range(8)
-N_STATS = 8
+(ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS,
+ ST_EDGE) = range(9)
+N_STATS = 9
+EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
 STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clearance_skips",
-              "triangles_tested")
+              "triangles_tested", "edge_fallbacks")
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -172,7 +174,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
                 reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes):
+                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
@@ -223,7 +225,10 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
 
     ``planes`` (P,8): for each held point its contact plane, written as it is found (the unit
     normal, the offset of the surface plus the thickness, the body's velocity, the friction
-    coefficient; :func:`record_plane`)."""
+    coefficient; :func:`record_plane`).
+
+    ``only`` (P,) bool: when not empty, only the points marked are seen (the others are
+    left as they are, their clocks too: their next motion counts everything since)."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -252,7 +257,10 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     rest = 1.0 - alpha
     inv_t = 1.0 / rest if rest > 1e-9 else 0.0
     tnow = clock[4]
+    use_only = only.shape[0] > 0
     for i in range(pos.shape[0]):
+        if use_only and not only[i]:
+            continue
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
@@ -530,7 +538,8 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
 
 @numba.njit(cache=True, _nrt=False)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
-               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes):
+               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge, edge_nz,
+               pwin):
     """Image-space collision of every cloth point against front/back depth maps at time
     ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps.
 
@@ -546,7 +555,18 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     ``patt`` (P,12) float32 (normal and velocity, both slots). Read in order, one point after
     the other, they stay cheap where the maps' scattered pixels would miss the cache.
     (The object pass's clearances count these pushes as the points' motion: it measures
-    each point's motion from where it last saw it.)"""
+    each point's motion from where it last saw it.)
+
+    ``edge`` (P,) bool: when not empty, the points the maps cannot answer well are marked
+    there and left alone (not held, not moved) for the caller to collide in object space:
+    those whose 2×2 pixel block is not fully covered in both slots but has a covered pixel
+    within ``EDGE_WINDOW`` pixels (the silhouette, where the torso's surface turns away from
+    both cameras: the crotch's underside, seen edge-on, is drawn in no pixel at all; and the
+    open rim where a limb joins), and those whose surface turns too far from the camera
+    (n·view < ``edge_nz``), where a depth difference is a poor measure of the distance.
+    ``pwin`` (P,) int8: each point's "covered pixel in the window" for its cached block.
+    Empty ``edge``: the paper's image space, where such points are answered by the maps
+    (the normal leaned towards the view axis at the silhouette)."""
     h = D.shape[0]
     w = D.shape[1]
     cx = m[2, 0]
@@ -560,6 +580,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     n_box = 0
     n_narrow = 0
     n_contact = 0
+    n_edge = 0
+    use_edge = edge.shape[0] > 0
     for i in range(pos.shape[0]):
         px = pos[i, 0]
         py = pos[i, 1]
@@ -597,6 +619,16 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
                         pdep[i, 4 * u + q] = -np.inf
                         pdep[i, 8 + 4 * u + q] = np.inf
             pkey[i, 0] = key
+            if use_edge:
+                # any pixel covered within EDGE_WINDOW pixels of the block (either slot,
+                # either side: where only surfaces facing away from the front camera are
+                # drawn, as under the crotch, the front map is empty)?
+                pwin[i] = 0
+                for ii in range(max(i0 - EDGE_WINDOW, 0), min(i0 + 2 + EDGE_WINDOW, h)):
+                    for jj in range(max(j0 - EDGE_WINDOW, 0), min(j0 + 2 + EDGE_WINDOW, w)):
+                        if D[ii, jj, s0, 0] > -np.inf or D[ii, jj, s1, 0] > -np.inf or \
+                                D[ii, jj, s0, 1] < np.inf or D[ii, jj, s1, 1] < np.inf:
+                            pwin[i] = 1
         w00 = (1.0 - tx) * (1.0 - ty)
         w01 = tx * (1.0 - ty)
         w10 = (1.0 - tx) * ty
@@ -607,6 +639,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         zb0 = 0.0
         q0 = -1
         wq0 = -1.0
+        nc0 = 0
+        nc1 = 0
         ws1 = 0.0
         zf1 = 0.0
         zb1 = 0.0
@@ -616,6 +650,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
             wq = w00 if q == 0 else (w01 if q == 1 else (w10 if q == 2 else w11))
             f = pdep[i, q]
             if f > -np.inf:
+                nc0 += 1
                 ws0 += wq
                 zf0 += wq * f
                 zb0 += wq * pdep[i, 8 + q]
@@ -624,12 +659,21 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
                     q0 = q
             f = pdep[i, 4 + q]
             if f > -np.inf:
+                nc1 += 1
                 ws1 += wq
                 zf1 += wq * f
                 zb1 += wq * pdep[i, 12 + q]
                 if wq > wq1:
                     wq1 = wq
                     q1 = q
+        if use_edge and (nc0 < 4 or nc1 < 4):
+            # at or near the silhouette (or the open rim where a limb joins): the surface
+            # there turns away from both cameras (the crotch's underside is seen edge-on and
+            # drawn in no pixel at all): object space answers
+            if pwin[i]:
+                edge[i] = True
+                n_edge += 1
+            continue
         if ws0 > 0.0 and ws1 > 0.0:
             ka = 1.0 - alpha
             kb = alpha
@@ -700,6 +744,10 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
             ny /= nl
             nz /= nl
         ndc = sgn * (nx * cx + ny * cy + nz * cz)  # > 0 for a surface facing its camera
+        if ndc < edge_nz and use_edge:
+            edge[i] = True
+            n_edge += 1
+            continue
         if ndc < min_nz:
             # at the silhouette (or a bad normal) lean the normal towards the camera axis
             tx_ = nx - sgn * ndc * cx
@@ -729,6 +777,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     stats[ST_BOXED] += n_box
     stats[ST_NARROW] += n_narrow
     stats[ST_CONTACT] += n_contact
+    stats[ST_EDGE] += n_edge
 
 
 @numba.njit(cache=True, _nrt=False)
