@@ -258,8 +258,8 @@ class Collider:
         self._calls_last_frame = 0
         self._substeps = None
         self._pts = self._edge_pts = None  # _Points of the object pass and of the edge fallback
-        self._edge = np.zeros(0, bool)
-        self._edge_seen = 0
+        self._edge = np.zeros(0, bool)   # the points the image pass leaves to object space
+        self._rest = np.zeros(0, bool)   # and the others
         self.stats = np.zeros(K.N_STATS, np.int64)
         # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
         # body's velocity, friction; normal 0 for points not held), see kernels.record_plane
@@ -504,8 +504,7 @@ class Collider:
                 else:
                     self._edge[:] = False
             self._image(pos, vel, alpha, lo, hi, held, self._edge if use_edge else self._edge[:0])
-            flagged = use_edge and self.stats[K.ST_EDGE] > self._edge_seen
-            self._edge_seen = int(self.stats[K.ST_EDGE])
+            flagged = use_edge and bool(self._edge.any())
         if self.tree is not None:
             if flagged:
                 # the points the maps left alone: object space, every part in reach (the
@@ -621,7 +620,6 @@ class Collider:
     # ------------------------------------------------------------------ reports
     def reset_stats(self) -> None:
         self.stats[:] = 0
-        self._edge_seen = 0
         self.timings = Timings()
 
     def depth_maps(self):

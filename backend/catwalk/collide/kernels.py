@@ -536,6 +536,19 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
         left[i, 2] = pos[i, 2]
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _window_covered(D, i0, j0, s0, s1, h, w):
+    """1 if any pixel within ``EDGE_WINDOW`` of the 2×2 block at (i0, j0) is covered in
+    either slot, on either side (under the crotch only surfaces facing away from the front
+    camera are drawn: the front map is empty there, the back map is not), else 0."""
+    for ii in range(max(i0 - EDGE_WINDOW, 0), min(i0 + 2 + EDGE_WINDOW, h)):
+        for jj in range(max(j0 - EDGE_WINDOW, 0), min(j0 + 2 + EDGE_WINDOW, w)):
+            if D[ii, jj, s0, 0] > -np.inf or D[ii, jj, s1, 0] > -np.inf or \
+                    D[ii, jj, s0, 1] < np.inf or D[ii, jj, s1, 1] < np.inf:
+                return 1
+    return 0
+
+
 @numba.njit(cache=True, _nrt=False)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
                slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge, edge_nz,
@@ -564,7 +577,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     both cameras: the crotch's underside, seen edge-on, is drawn in no pixel at all; and the
     open rim where a limb joins), and those whose surface turns too far from the camera
     (n·view < ``edge_nz``), where a depth difference is a poor measure of the distance.
-    ``pwin`` (P,) int8: each point's "covered pixel in the window" for its cached block.
+    ``pwin`` (P,) int8: each point's "covered pixel in the window" for its cached block
+    (−1: not needed yet; looked at only for blocks not fully covered).
     Empty ``edge``: the paper's image space, where such points are answered by the maps
     (the normal leaned towards the view axis at the silhouette)."""
     h = D.shape[0]
@@ -619,16 +633,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
                         pdep[i, 4 * u + q] = -np.inf
                         pdep[i, 8 + 4 * u + q] = np.inf
             pkey[i, 0] = key
-            if use_edge:
-                # any pixel covered within EDGE_WINDOW pixels of the block (either slot,
-                # either side: where only surfaces facing away from the front camera are
-                # drawn, as under the crotch, the front map is empty)?
-                pwin[i] = 0
-                for ii in range(max(i0 - EDGE_WINDOW, 0), min(i0 + 2 + EDGE_WINDOW, h)):
-                    for jj in range(max(j0 - EDGE_WINDOW, 0), min(j0 + 2 + EDGE_WINDOW, w)):
-                        if D[ii, jj, s0, 0] > -np.inf or D[ii, jj, s1, 0] > -np.inf or \
-                                D[ii, jj, s0, 1] < np.inf or D[ii, jj, s1, 1] < np.inf:
-                            pwin[i] = 1
+            pwin[i] = -1  # not looked at yet for this block
         w00 = (1.0 - tx) * (1.0 - ty)
         w01 = tx * (1.0 - ty)
         w10 = (1.0 - tx) * ty
@@ -670,6 +675,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
             # at or near the silhouette (or the open rim where a limb joins): the surface
             # there turns away from both cameras (the crotch's underside is seen edge-on and
             # drawn in no pixel at all): object space answers
+            if pwin[i] < 0:
+                pwin[i] = _window_covered(D, i0, j0, s0, s1, h, w)
             if pwin[i]:
                 edge[i] = True
                 n_edge += 1
