@@ -130,6 +130,27 @@ def test_tryon_bad_arguments_exit_2(body_glb, tmp_path, repo_root, capsys, args,
     assert not (tmp_path / "t.glb").exists()
 
 
+@pytest.mark.parametrize("flag", ["-o", "--metrics", "--iv", "--obj-dir"])
+def test_tryon_refuses_an_unwritable_output_before_simulating(body_glb, tmp_path, repo_root,
+                                                              capsys, monkeypatch, flag):
+    import catwalk.simulate.pipeline as pipeline
+
+    def never(*a, **k):
+        raise AssertionError("simulated before checking the outputs")
+
+    monkeypatch.setattr(pipeline, "run_tryon", never)
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    out = {"-o": str(tmp_path / "t.glb")}
+    out[flag] = str(blocker / ("t.glb" if flag == "-o" else "x"))
+    argv = ["tryon", "--body", str(body_glb), "--garment", str(repo_root / SKIRT), *FAST]
+    for k, v in out.items():
+        argv += [k, v]
+    assert main(argv) == 2
+    assert "not a writable folder" in capsys.readouterr().err
+    assert sorted(tmp_path.iterdir()) == [blocker] and blocker.read_text() == "not a folder"
+
+
 def test_dress_cli_writes_a_valid_static_glb(body_glb, tmp_path, repo_root, capsys):
     from catwalk.export.garment import read_garments
     from catwalk.export.gltf import validate

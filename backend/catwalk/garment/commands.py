@@ -143,17 +143,11 @@ def _catalogue(args) -> int:
 
 
 def _freesewing_lengths(args) -> int:
-    import os
-
-    from catwalk.fileio import atomic_path
+    from catwalk.fileio import atomic_path, check_writable
     from catwalk.garment.freesewing import BODY_LENGTHS, freesewing_lengths
 
     if args.output != "-":   # before measuring a dozen bodies: can it be written at all?
-        parent = Path(args.output).resolve().parent
-        while not parent.exists():
-            parent = parent.parent
-        if not parent.is_dir() or not os.access(parent, os.W_OK):
-            raise InputError(f"-o {args.output}: {parent} is not a writable folder")
+        check_writable(args.output, "-o")
     data = {"about": "Lengths (mm) of catwalk's sample bodies (bodies/recipes.json) that "
                      "draft.mjs puts in place of the FreeSewing model set's: "
                      + ", ".join(BODY_LENGTHS)

@@ -62,6 +62,14 @@ def _load_inputs(args):
         raise InputError(f"--body {body_path}: no such file")
     if not str(args.output).lower().endswith(".glb"):
         raise InputError(f"-o {args.output}: the result is written as a .glb file")
+    from catwalk.fileio import check_writable
+
+    # before minutes of simulation: every output can be written
+    obj_dir = getattr(args, "obj_dir", None)
+    for flag, path in (("-o", args.output), ("--metrics", args.metrics), ("--iv", args.iv),
+                       ("--obj-dir", obj_dir and Path(obj_dir) / "frame.obj")):
+        if path:
+            check_writable(path, flag)
     garment = load_garment(args.garment)
     require_valid(garment, Path(args.garment).parent)
     garment.size(args.size)   # a clear error for an unknown size before any work
