@@ -17,8 +17,8 @@ const VERSION = '4.10.2'
 const here = dirname(fileURLToPath(import.meta.url))
 const config = JSON.parse(readFileSync(join(here, 'designs.json'), 'utf8'))
 const recipes = JSON.parse(readFileSync(join(here, config.recipes), 'utf8')).bodies
-// lengths measured on our sample bodies (`catwalk garment freesewing-lengths`), in place of
-// the model set's
+// lengths (and the biceps and bust span) measured on our sample bodies
+// (`catwalk garment freesewing-lengths`), in place of the model set's: they win over the scaling below
 const lengths = config.lengths
   ? JSON.parse(readFileSync(join(here, config.lengths), 'utf8')).bodies
   : {}

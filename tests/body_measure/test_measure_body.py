@@ -34,18 +34,28 @@ def test_female_measurements_plausible(measured):
     assert 0.36 < m["shoulder_width"] < 0.48
     assert 0.40 < m["arm_length"] < 0.60
     assert 0.27 < m["neck_girth"] < 0.34
+    assert 0.22 < m["upper_arm_girth"] < 0.36
+    # the bust points: forward of the bust loop's centre, one each side, 14-26 cm apart
+    bl, br, c = (np.array(m["landmarks"][k]) for k in ("bust_point_left", "bust_point_right",
+                                                       "bust"))
+    assert 0.14 < m["bust_span"] < 0.26
+    assert m["bust_span"] == pytest.approx(bl[0] - br[0], abs=1e-12)
+    assert bl[0] > c[0] > br[0] and min(bl[2], br[2]) > c[2] + 0.05
+    np.testing.assert_allclose(bl * [-1, 1, 1], br, atol=0.01)
 
 
 def test_male_measurements_plausible(measured):
     m, f = measured["male"], measured["female"]
     assert "underbust" not in m and "underbust" not in m["landmarks"]
+    assert "bust_span" not in m and "bust_point_left" not in m["landmarks"]
     assert m["bust"] == m["chest"]
     assert 0.90 < m["chest"] < 1.05
     assert 0.68 < m["waist"] < 0.82
     assert 0.85 < m["hips"] < 1.00
     assert m["waist"] < m["hips"] and m["waist"] < m["chest"]
     # men: broader shoulders, thicker neck, longer arms and legs than the women
-    for k in ("shoulder_width", "neck_girth", "arm_length", "inseam", "chest"):
+    for k in ("shoulder_width", "neck_girth", "arm_length", "inseam", "chest",
+              "upper_arm_girth"):
         assert m[k] > f[k] + 0.01, k
 
 
@@ -130,7 +140,7 @@ def test_girths_invariant_to_remesh_noise_units_axes(copy, bodies, body_faces,
         scan = load_scan(p)
         assert (scan.units, scan.up, scan.forward) == ("mm", "+Z", "-Y")
         m = measure_body(scan.vertices, scan.faces, sex="female")
-    for k in GIRTHS + ("height", "inseam"):
+    for k in GIRTHS + ("height", "inseam", "upper_arm_girth", "bust_span"):
         assert abs(m[k] - ref[k]) < 0.015, (copy, k, m[k], ref[k])
     # the same body gives nearly the same numbers, not just within tolerance (loop
     # subdivision smooths the surface and shrinks girths by a few millimetres)

@@ -155,12 +155,15 @@ def test_freesewing_lengths_are_our_bodies_and_up_to_date(tmp_path):
     assert set(committed) == {r["name"] for r in load_recipes()}
     recipe = next(r for r in load_recipes() if r["name"] == "female-M")
     got = freesewing_lengths([recipe])["female-M"]
-    assert set(got) == set(BODY_LENGTHS)
+    assert set(got) == set(BODY_LENGTHS)  # a woman: every one, bustSpan too
     for k in BODY_LENGTHS:
         assert got[k] == pytest.approx(committed["female-M"][k], abs=1.0), k
     assert 0.6 * recipe["height"] * 1000 < got["waistToFloor"] < 0.7 * recipe["height"] * 1000
     assert got["inseam"] < got["waistToFloor"] and got["waistToKnee"] < got["waistToFloor"]
     assert 400 < got["shoulderToWrist"] < 650
+    assert 220 < got["biceps"] < 400 and 150 < got["bustSpan"] < 260
+    male = next(r for r in load_recipes() if r["name"] == "male-M")
+    assert "bustSpan" not in freesewing_lengths([male])["male-M"]
 
 
 def test_freesewing_lengths_cli_refuses_an_unwritable_output_at_once(tmp_path, capsys):

@@ -806,6 +806,20 @@ class _Body:
                 out["underbust"] = float(gu[0])
                 lm["underbust"] = centre(y_ub, ru[0])
                 y_top_waist = min(y_top_waist, y_ub - 0.01)
+            # bust points: on each side, the most forward point of the breast, by a soft
+            # arg-max (τ = 2 mm) of the surface's forward protrusion within 5 cm of the bust
+            # level (the breast's front is nearly flat across: a plain maximum, or one slice's,
+            # jumps by centimetres when the surface is remeshed or smoothed)
+            V = self.V
+            near = (np.abs(V[:, 1] - y_b) < 0.05) & (V[:, 2] > r1[3])
+            for side, name in ((1, "bust_point_left"), (-1, "bust_point_right")):
+                dx = side * (V[:, 0] - r1[2])
+                P = V[near & (dx > 0.01) & (dx < 0.16)]
+                if len(P) < 3:
+                    raise _fail("no bust point found")
+                w = np.exp((P[:, 2] - P[:, 2].max()) / 0.002)
+                lm[name] = [float(t) for t in (w[:, None] * P).sum(axis=0) / w.sum()]
+            out["bust_span"] = abs(lm["bust_point_left"][0] - lm["bust_point_right"][0])
         # waist: least torso girth between the hips and the underbust / bust
         m = (ys > y_hip + 0.02) & (ys < y_top_waist)
         idx = np.nonzero(m)[0]
@@ -944,7 +958,7 @@ class _Body:
         ptr, nbr = topo.adjacency()
         used = topo.used
         foot = used[np.argmin(V[used, 1])]
-        self.wrist, self.elbow, self.arm_length = {}, {}, {}
+        self.wrist, self.elbow, self.arm_length, self.upper_arm = {}, {}, {}, {}
         for side in (1, -1):
             ap = self.armpit_pt[side]
             # the arm: the surface below the armpits reachable from its most lateral vertex
@@ -1001,6 +1015,20 @@ class _Body:
             self.wrist[side] = W
             self.elbow[side] = E
             self.arm_length[side] = float(np.linalg.norm(E - A) + np.linalg.norm(W - E))
+            # upper-arm girth: the greatest girth across the arm between 40 % and 90 % of the
+            # way from the acromion to the elbow (above that, sections run into the cut under
+            # the armpit and come out short)
+            t_e = float(E @ d)
+            lu = t_a + (t_e - t_a) * np.linspace(UPPER_ARM_RANGE[0], UPPER_ARM_RANGE[1], 12)
+            s3 = sl.slice(lu)
+            gu = np.array([s3.stats[s3.comps(i), 0].max() if len(s3.comps(i)) else -np.inf
+                           for i in range(len(lu))])
+            i = int(np.argmax(gu))
+            if not np.isfinite(gu[i]):
+                raise _fail("no upper arm found")
+            tu = _golden_max(lambda t, sl=sl: -neg_girth(t, sl), lu[max(i - 1, 0)],
+                             lu[min(i + 1, len(lu) - 1)])
+            self.upper_arm[side] = max(-neg_girth(tu), float(gu[i]))
 
     @staticmethod
     def _axis_point(sl, t, d, e1, e2):
@@ -1056,6 +1084,10 @@ class _Body:
             y_k = y_g + 0.53 * (self.crotch_y - y_g)
             self.knee[side] = np.array([float(np.interp(y_k, ys, st[:, 2])), y_k,
                                         float(np.interp(y_k, ys, st[:, 3]))])
+
+
+#: where the upper-arm girth is looked for: fractions of the way from the acromion to the elbow
+UPPER_ARM_RANGE = (0.4, 0.9)
 
 
 def _golden_max(f, a, b, iters=12):
@@ -1129,16 +1161,20 @@ def measure_body(vertices, faces, sex: str | None = None) -> dict:
         "bust": girths["bust"],
         "chest": girths["chest"],
         "underbust": girths.get("underbust"),
+        "bust_span": girths.get("bust_span"),
         "waist": girths["waist"],
         "hips": girths["hips"],
         "inseam": float(b.crotch_y - b.ymin),
         "shoulder_width": float(sw),
         "arm_length": 0.5 * (b.arm_length[1] + b.arm_length[-1]),
+        "upper_arm_girth": 0.5 * (b.upper_arm[1] + b.upper_arm[-1]),
         "neck_girth": float(neck),
     }
     if sex == "male":
         out.pop("underbust")
-        lm.pop("underbust", None)
+        out.pop("bust_span")
+        for k in ("underbust", "bust_point_left", "bust_point_right"):
+            lm.pop(k, None)
     landmarks = {
         "neck_base": p(0.5 * (b.side_neck[1] + b.side_neck[-1])),
         "neck_side_left": p(b.side_neck[1]),

@@ -148,10 +148,10 @@ def _freesewing_lengths(args) -> int:
 
     if args.output != "-":   # before measuring a dozen bodies: can it be written at all?
         check_writable(args.output, "-o")
-    data = {"about": "Lengths (mm) of catwalk's sample bodies (bodies/recipes.json) that "
-                     "draft.mjs puts in place of the FreeSewing model set's: "
+    data = {"about": "Lengths and girths (mm) of catwalk's sample bodies (bodies/recipes.json) "
+                     "that draft.mjs puts in place of the FreeSewing model set's: "
                      + ", ".join(BODY_LENGTHS)
-                     + ". Made by `catwalk garment freesewing-lengths`.",
+                     + " (bustSpan: women only). Made by `catwalk garment freesewing-lengths`.",
             "bodies": freesewing_lengths()}
     text = json.dumps(data, indent=1) + "\n"
     if args.output == "-":
