@@ -258,3 +258,29 @@ def test_contact_planes_apply_coulomb_friction_relative_to_the_body():
     # on a frictionless plane)
     carried = slide(0.5, body_vx=1.0)
     assert carried == pytest.approx(1.0, abs=1e-6) and carried > slide(0.0) + 0.02
+
+
+def test_after_collision_moves_held_points_only_when_asked():
+    """Provot's correction after a collision keeps points the body holds where they are; with
+    ``move_held`` (dressing's final strain relief) it shortens a spring held at both ends too."""
+    model, state = hanging_cloth(0.1, 0.1, 0.02, pins="corners")
+    state.pinned[:] = False
+    solver = Solver(model, "ordered", tau=0.1)
+    x = state.positions
+    x[:, 0] *= 1.3           # stretched 30 % across: every horizontal spring over the limit
+    n = model.n_limited
+    e0 = np.linalg.norm(x[model.spring_b[:n]] - x[model.spring_a[:n]], axis=1) \
+        / model.spring_rest[:n] - 1.0
+    assert e0.max() > 0.25
+    state.held[:] = True      # the body holds every point
+    before = x.copy()
+    solver.after_collision(model, state, 1e-3)
+    np.testing.assert_array_equal(x, before)            # held: nothing moves
+    solver.after_collision(model, state, 1e-3, iterations=40, move_held=True)
+    assert max_strain(model, x) < 0.12                  # near the limit τ = 0.1
+    assert np.abs(x - before).max() > 0.005
+    state.pinned[0] = True    # pinned points stay put even then
+    x[:, 0] *= 1.2
+    p0 = x[0].copy()
+    solver.after_collision(model, state, 1e-3, move_held=True)
+    np.testing.assert_array_equal(x[0], p0)

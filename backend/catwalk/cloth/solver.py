@@ -355,13 +355,15 @@ class Solver:
         self._last_h = h
 
     def after_collision(self, model: ClothModel, state: State, dt: float,
-                        iterations: int = 4) -> None:
+                        iterations: int = 4, move_held: bool = False) -> None:
         """Provot's position correction after a collision response: stretch/shear springs the
         collider left longer than (1+τ)·rest (it pushed one end out and not the other) are
         shortened, points held by the body staying put, and the velocities take the change
         over ``dt`` (the time since the previous collision response). Without it a stiff
-        fabric turns a few millimetres of push into tens of m/s of spring oscillation."""
-        w = np.where(state.held | state.pinned, 0.0, self._inv_mass)
+        fabric turns a few millimetres of push into tens of m/s of spring oscillation.
+        ``move_held``: points held by the body are corrected too (only pinned points stay put;
+        the caller pushes them back out of the body)."""
+        w = np.where((state.held & (not move_held)) | state.pinned, 0.0, self._inv_mass)
         # the kernel works on (3, n) arrays; the transposed views are changed in place
         K.limit_provot_positions(state.positions.T, state.velocities.T, w, model.spring_a,
                                  model.spring_b, model.spring_rest, model.n_limited, self.tau,
