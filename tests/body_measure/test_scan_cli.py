@@ -37,7 +37,7 @@ def test_measure_prints_measurements_and_landmarks(female_stl, capsys, measured)
     assert main(["body", "measure", str(female_stl), "--sex", "female"]) == 0
     m = json.loads(capsys.readouterr().out)
     for k in ("height", "bust", "chest", "underbust", "waist", "hips", "inseam",
-              "shoulder_width", "arm_length", "neck_girth"):
+              "shoulder_width", "arm_length", "neck_girth", "upper_arm_girth", "bust_span"):
         assert m[k] == pytest.approx(measured["female"][k], abs=0.002), k
     assert set(measured["female"]["landmarks"]) == set(m["landmarks"])
     # the same landmarks in the file's own coordinates (millimetres, Z up)

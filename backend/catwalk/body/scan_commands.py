@@ -86,9 +86,11 @@ def register(top, groups) -> None:
         "measure", help="measurements and landmarks of a body or scan, as JSON",
         description="Measure a standing body or scan from its surface (ISO 8559-1 style girths "
                     "as convex-hull lengths of horizontal sections): height, bust/chest, "
-                    "underbust, waist, hips, inseam, shoulder width, arm length, neck girth "
-                    "(metres) and landmark positions. See docs/bodies-measure.md.")
+                    "underbust, bust span, waist, hips, inseam, shoulder width, arm length, "
+                    "upper-arm girth, neck girth (metres) and landmark positions. See "
+                    "docs/bodies-measure.md.")
     p.add_argument("file", help="body or scan file (.obj, .ply, .stl, .glb)")
     p.add_argument("--sex", choices=("female", "male"), default=None,
-                   help="female: bust and underbust; male: chest, no underbust")
+                   help="female: bust, underbust and bust span; male: chest, no underbust or "
+                        "bust span")
     p.set_defaults(func=_measure)
