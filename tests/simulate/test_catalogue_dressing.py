@@ -42,6 +42,15 @@ def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
     # skirt, whose waist is tight on this body (hips 0.91 m, the size's 0.98): 0.12 (τ 0.04)
     assert e.max() <= (0.13 if name == "pencil-skirt" else tau + 0.01)
     assert e.max() <= st["strain_before_relief"] + 0.005   # the relief makes nothing worse
+    # what is shown: the same cloth, pushed off the body's sharp vertices (bust points) where
+    # they come through a triangle — outwards, by at most a couple of centimetres
+    shown = d.display
+    moved = np.linalg.norm(shown - x, axis=1)
+    assert moved.max() == pytest.approx(st["sharp_push_max_mm"] / 1e3)
+    assert moved.max() < 0.025 and (moved > 0).sum() <= 3 * st["sharp_pushes"]
+    assert (st["sharp_pushes"] > 0) == (moved.max() > 0)
+    assert penetration(BodySurface(body.faces, len(body.vertices)), body.vertices,
+                       shown).max() <= 0.002
     # the garment hangs where it belongs
     y = x[:, 1]
     lm = body.landmarks

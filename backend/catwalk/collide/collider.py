@@ -10,6 +10,7 @@ import numpy as np
 from catwalk.cloth.model import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
+from catwalk.collide.sharp import SHARP_DEPTH, point_triangles, push_off_sharp, sharp_vertices
 from catwalk.errors import CatwalkError
 from catwalk.render.raster import (
     ortho_view,
@@ -44,6 +45,8 @@ class Timings:
     refit: float = 0.0
     image_queries: float = 0.0
     object_queries: float = 0.0
+    sharp: float = 0.0
+    sharp_pushes: int = 0
     frames: int = 0
     substeps: int = 0
     maps_rendered: int = 0
@@ -267,6 +270,9 @@ class Collider:
         self.timings = Timings()
         self._torso_lo = np.zeros(3)
         self._torso_hi = np.zeros(3)
+        self._sharp = None            # the body's sharp vertices (collide/sharp.py)
+        self._sharp_csr = None
+        self._sharp_csr_key = None
 
     # ------------------------------------------------------------------ per frame
     def update(self, body_vertices, body_velocities=None, substeps: int | None = None) -> None:
@@ -616,6 +622,45 @@ class Collider:
                      self.stats, self._pkey, self._pdep, self._patt, self.planes, edge,
                      self.edge_normal_z, self._pwin)
         self.timings.image_queries += _clock() - t
+
+    def push_off_sharp(self, positions, triangles, moved=None) -> int:
+        """Push cloth triangles off the body's sharp vertices at the current frame (see
+        :mod:`catwalk.collide.sharp`): the body's side of the collision, once per frame after
+        the last :meth:`resolve`. ``positions`` (P, 3) float64, changed in place;
+        ``triangles`` (T, 3) over them; ``moved`` (P,) bool, if given: set True for the points
+        moved. Returns the number of pushes."""
+        if self.v1 is None:
+            raise CatwalkError("collider.update(body) must be called before push_off_sharp()")
+        x = positions
+        if not (isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 2 and
+                x.shape[1] == 3 and x.flags.c_contiguous and x.flags.writeable):
+            raise CatwalkError("positions must be a writable C-contiguous float64 (P, 3) array")
+        tris = np.ascontiguousarray(triangles, dtype=np.int64)
+        if len(tris) == 0 or len(x) == 0:
+            return 0
+        if tris.ndim != 2 or tris.shape[1] != 3 or tris.min() < 0 or tris.max() >= len(x):
+            raise CatwalkError("cloth triangles must be (T, 3) indices of the positions")
+        self._ensure_normals()
+        if self._sharp is None:  # from the first pose the collider saw
+            # of the torso only: the limbs' (fingers, knuckles, toes) rub cloth at every
+            # step of a walk and would tent it frame after frame
+            sv = sharp_vertices(self.v1, self.n1)
+            self._sharp = sv[self.parts[sv] == 0]
+        key = (id(triangles), len(x))
+        if self._sharp_csr_key != key:
+            self._sharp_csr = point_triangles(tris, len(x))
+            self._sharp_csr_key = key
+        t = _clock()
+        if moved is None:
+            moved = np.zeros(0, bool)
+        elif not (isinstance(moved, np.ndarray) and moved.dtype == bool
+                  and moved.shape == (len(x),)):
+            raise CatwalkError("moved must be a (P,) bool array")
+        n = push_off_sharp(x, tris, *self._sharp_csr, self._sharp, self.v1, self.n1,
+                           self.thickness, SHARP_DEPTH, 0.02, moved)
+        self.timings.sharp += _clock() - t
+        self.timings.sharp_pushes += int(n)
+        return int(n)
 
     # ------------------------------------------------------------------ reports
     def reset_stats(self) -> None:

@@ -37,7 +37,8 @@ def garment_frames(dressed: Dressed, times: np.ndarray, positions: np.ndarray,
 
 def static_frames(dressed: Dressed, name: str | None = None) -> GarmentFrames:
     """The dressed garment at rest as a one-frame :class:`GarmentFrames`."""
-    return garment_frames(dressed, np.zeros(1), dressed.pattern_positions()[None], name)
+    return garment_frames(dressed, np.zeros(1), dressed.pattern_positions(dressed.display)[None],
+                          name)
 
 
 def run_tryon(body, garment, motion: Motion | None, *, size: str | None = None, fabric=None,
@@ -75,10 +76,12 @@ def run_tryon(body, garment, motion: Motion | None, *, size: str | None = None, 
             "max_seam_gap_mm": max(1e3 * ds["seam_gap_m"], ws["max_seam_gap_mm"]),
             "nan": bool(ws["nan"]), "exploded": bool(ws["exploded"]),
             "slowed_points": ws["slowed_points"] + ds["slowed_points"],
+            "sharp_pushes": ws["sharp_pushes"], "sharp_push_max_mm": ws["sharp_push_max_mm"],
         })
     else:
         metrics.update({"max_strain": ds["max_strain"], "nan": False, "exploded": False,
-                        "slowed_points": ds["slowed_points"]})
+                        "slowed_points": ds["slowed_points"], "sharp_pushes": ds["sharp_pushes"],
+                        "sharp_push_max_mm": ds["sharp_push_max_mm"]})
     for k, v in list(metrics.items()):
         if isinstance(v, float) and not math.isfinite(v):
             metrics[k] = None

@@ -116,6 +116,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
     seam_gap = 0.0
     slowed = 0
+    sharp = 0
+    sharp_mm = 0.0
     surface = BodySurface(body.faces, len(body.vertices)) if measure else None
     nf = motion.frames
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
@@ -149,11 +151,21 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         slowed += clock.get("slowed", 0)
         rec = f - n_pre
         if rec >= 0:
+            # shown: the cloth off the body's sharp vertices (the state is left as it is);
+            # collider time
+            t2 = time.perf_counter()
+            xs = state.positions.copy()
+            n_sharp = collider.push_off_sharp(xs, model.triangles)
+            tc += time.perf_counter() - t2
             t_col += tc
             t_cloth += tcl
             per_frame.append((tc + tcl) * 1e3)
             ncols.append(n_col)
-            out[rec] = state.positions[dressed.rep]
+            if n_sharp:
+                sharp += n_sharp
+                sharp_mm = max(sharp_mm, float(np.sqrt(np.max(np.sum(
+                    (xs - state.positions) ** 2, axis=1)))))
+            out[rec] = xs[dressed.rep]
             e = strain_of(model, state.positions)
             strains.append(float(e.max()) if len(e) else 0.0)
             strains99.append(float(np.percentile(e, 99)) if len(e) else 0.0)
@@ -181,7 +193,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         "p99_strain": float(max(strains99)) if strains99 else 0.0,
         "max_seam_gap_mm": 1e3 * seam_gap, "open_seam_pairs": int(len(model.seam_a)),
         "exploded": False, "nan": False,   # either aborts the walk with ClothExplosionError
-        "slowed_points": int(slowed),
+        "slowed_points": int(slowed), "sharp_pushes": int(sharp),
+        "sharp_push_max_mm": 1e3 * sharp_mm,
     }
     if surface is not None and pen_max:
         stats["max_penetration_mm"] = 1e3 * max(pen_max)
