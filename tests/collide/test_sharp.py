@@ -74,3 +74,14 @@ def test_push_off_sharp_bad_input():
     with pytest.raises(CatwalkError, match="float64"):
         col.push_off_sharp(x.astype(np.float32), tris)
     assert col.push_off_sharp(x, tris[:0]) == 0
+
+
+def test_a_cloth_spread_over_kilometres_costs_no_more_memory():
+    """The cloth-point grid is capped (a blown-up cloth must not allocate a huge grid)."""
+    v, f, tip, x, tris = _scene()
+    col = make_collider("object", f, np.zeros(len(v), np.int8), thickness=THICK)
+    col.update(v)
+    far = np.array([[5000.0, 5000.0, 5000.0], [-5000.0, -5000.0, -5000.0]])
+    xx = np.ascontiguousarray(np.concatenate([x, far]))
+    assert col.push_off_sharp(xx, tris) >= 1          # the triangle over the tip still found
+    np.testing.assert_array_equal(xx[-2:], far)

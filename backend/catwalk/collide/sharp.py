@@ -75,6 +75,9 @@ def push_off_sharp(x, tris, ptr, pt_tri, cand, V, N, thickness, depth, cell, mov
         for q in range(3):
             lo[q] = min(lo[q], x[i, q])
             hi[q] = max(hi[q], x[i, q])
+    # at most ~2 million cells, whatever the cloth's extent (coarser cells only look further)
+    vol = (hi[0] - lo[0] + 2.0 * cell) * (hi[1] - lo[1] + 2.0 * cell) * (hi[2] - lo[2] + 2.0 * cell)
+    cell = max(cell, (vol / 2.0e6) ** (1.0 / 3.0))
     dims = np.empty(3, np.int64)
     for q in range(3):
         lo[q] -= cell
