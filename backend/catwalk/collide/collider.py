@@ -177,7 +177,7 @@ class Collider:
                  friction=0.3, contact_slack=0.0005, search_radius=0.02, max_depth=0.02,
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
-                 map_region_pad=0.05, edge_fallback=True,
+                 map_region_pad=0.05, edge_fallback=True, limb_fallback=True,
                  skips: Skips | None = None):
         if mode not in MODES:
             raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
@@ -230,6 +230,7 @@ class Collider:
         # surface turns away from both cameras) go to object space against every part, the
         # torso's own hierarchy included (built for them alone)
         self.edge_fallback = bool(mode == "hybrid" and edge_fallback and present[0])
+        self.limb_fallback = bool(self.edge_fallback and limb_fallback)
         self.hier_parts = self.tree_parts | (self.map_parts & present & self.edge_fallback)
         in_tree = list(np.nonzero(self.hier_parts)[0])
         map_faces = np.nonzero(self.map_parts[self.face_part])[0]
@@ -268,6 +269,7 @@ class Collider:
         self._substeps = None
         self._pts = self._edge_pts = None  # _Points of the object pass and of the edge fallback
         self._edge = np.zeros(0, bool)   # the points the image pass leaves to object space
+        self._near_limb = np.zeros(0, bool)  # hybrid: the points a limb held at the last resolve
         self._rest = np.zeros(0, bool)   # and the others
         self.stats = np.zeros(K.N_STATS, np.int64)
         # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
@@ -513,21 +515,39 @@ class Collider:
                 if len(self._edge) != n:
                     self._edge = np.zeros(n, bool)
                     self._rest = np.ones(n, bool)
+                elif self.limb_fallback and len(self._near_limb) == n:
+                    # points a limb held at the last resolve: object space against every
+                    # part (a point pinched between an arm and the torso answered by the maps
+                    # and by the arm's hierarchy in turn is pushed back and forth)
+                    self._edge[:] = self._near_limb
                 else:
                     self._edge[:] = False
             self._image(pos, vel, alpha, lo, hi, held, self._edge if use_edge else self._edge[:0])
             flagged = use_edge and bool(self._edge.any())
         if self.tree is not None:
+            track = use_edge and self.limb_fallback
+            he = np.zeros(n, bool) if track else held
+            hl = np.zeros(n, bool) if track else held
             if flagged:
                 # the points the maps left alone: object space, every part in reach (the
                 # nearest surface of all, as in object mode); the others: the limbs
                 np.logical_not(self._edge, out=self._rest)
-                self._edge_pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held,
+                self._edge_pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, he,
                                               reach, self._edge_pts, self._edge)
             if self.tree_parts.any():
-                self._pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, held,
+                self._pts = self._object(pos, vel, prev, alpha, alpha_prev, lo, hi, hl,
                                          reach & self.tree_parts, self._pts,
                                          self._rest if flagged else self._edge[:0])
+            if track:
+                held |= he
+                held |= hl
+                # held by a limb: by the limbs' pass, or by a limb's triangle in the
+                # all-parts pass
+                near = hl
+                if flagged and self._edge_pts is not None:
+                    t = self._edge_pts.cache_tri
+                    near = near | (he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != 0))
+                self._near_limb = near
         return held
 
     def _active_tree_parts(self, lo, hi):
@@ -691,7 +711,7 @@ class Collider:
         d = {"mode": self.mode, "thickness": self.thickness, "friction": self.friction,
              "map_parts": [PART_NAMES[p] for p in np.nonzero(self.map_parts)[0]],
              "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]],
-             "edge_fallback": self.edge_fallback}
+             "edge_fallback": self.edge_fallback, "limb_fallback": self.limb_fallback}
         if self.maps is not None:
             d["map_size"] = list(self.maps.size)
         if self.tree is not None:
@@ -705,6 +725,6 @@ def make_collider(mode, body_faces, parts, **options) -> Collider:
     ``image``: the whole body in depth maps; ``object``: every part in hierarchies) for a body
     with faces (M,3) and per-vertex ``parts`` (N,) (0 torso+head, 1 left arm, 2 right arm,
     3 left leg, 4 right leg). Options: see :class:`Collider` (thickness, friction, map_size,
-    search_radius, max_depth, reuse_tol, leaf_size, edge_fallback, edge_normal_z,
-    skips=Skips(...))."""
+    search_radius, max_depth, reuse_tol, leaf_size, edge_fallback, limb_fallback,
+    edge_normal_z, skips=Skips(...))."""
     return Collider(mode, body_faces, parts, **options)

@@ -570,7 +570,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     (The object pass's clearances count these pushes as the points' motion: it measures
     each point's motion from where it last saw it.)
 
-    ``edge`` (P,) bool: when not empty, the points the maps cannot answer well are marked
+    ``edge`` (P,) bool: when not empty, points marked on entry are skipped (the caller
+    sends them to object space), and the points the maps cannot answer well are marked
     there and left alone (not held, not moved) for the caller to collide in object space:
     those whose 2×2 pixel block is not fully covered in both slots but has a covered pixel
     within ``EDGE_WINDOW`` pixels (the silhouette, where the torso's surface turns away from
@@ -597,6 +598,9 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     n_edge = 0
     use_edge = edge.shape[0] > 0
     for i in range(pos.shape[0]):
+        if use_edge and edge[i]:
+            n_edge += 1  # marked by the caller: left to object space
+            continue
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
