@@ -397,13 +397,13 @@ def dress(body, garment, size: str | None = None, fabric=None,
     for _ in range(STRAIN_RELIEF_ROUNDS):
         solver.after_collision(welded, st, CHUNK / settings.sew_collisions, move_held=True)
         collide_and_floor(st, collider, x0, 1.0)
-    t_end = time.perf_counter()
     st.velocities[:] = 0.0
     # what is shown: the body's sharp vertices (bust points) pushed out of the cloth triangles
     # they come through between three points that are all outside (the resolves see points)
     display = st.positions.copy()
     sharp = collider.push_off_sharp(display, welded.triangles)
     sharp_mm = 1e3 * float(np.sqrt(np.max(np.sum((display - st.positions) ** 2, axis=1))))
+    t_end = time.perf_counter()
 
     # --- seams still open ---
     open_gap = {name: 0.0 for name in seam_names}

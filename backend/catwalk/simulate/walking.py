@@ -171,8 +171,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
             strains99.append(float(np.percentile(e, 99)) if len(e) else 0.0)
             if len(model.seam_a):
                 seam_gap = max(seam_gap, float(seam_gaps(model, state.positions).max()))
-            if surface is not None:
-                pen = penetration(surface, verts[f], state.positions)
+            if surface is not None:   # of what is shown
+                pen = penetration(surface, verts[f], xs)
                 pen_max.append(float(pen.max()))
                 pen_p99.append(float(np.percentile(pen, 99)))
         progress("walking" if rec >= 0 else "blending", f, total)
