@@ -11,10 +11,12 @@ import numpy as np
 from catwalk.cloth.model import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
-from catwalk.collide.sharp import SHARP_DEPTH, point_triangles, push_off_sharp, sharp_vertices
+from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
 from catwalk.errors import CatwalkError
 from catwalk.render.raster import (
+    incident_faces,
     ortho_view,
+    vertex_normals,
     vertex_normals_kernel,
 )
 
@@ -278,6 +280,7 @@ class Collider:
         self.timings = Timings()
         self._torso_lo = np.zeros(3)
         self._torso_hi = np.zeros(3)
+        self._first_v = None          # the first pose given to update()
         self._sharp = None            # the body's sharp vertices (collide/sharp.py)
         self._sharp_csr = None
         self._sharp_csr_key = None
@@ -303,6 +306,7 @@ class Collider:
             raise CatwalkError(f"substeps must be >= 1, got {substeps}")
         first = self.v1 is None
         if first:
+            self._first_v = v.copy()   # the pose the sharp vertices are found in
             self.v0 = v.copy()
             self.v1 = v.copy()
             self.w0 = w.copy()
@@ -666,32 +670,41 @@ class Collider:
             return 0
         if tris.ndim != 2 or tris.shape[1] != 3 or tris.min() < 0 or tris.max() >= len(x):
             raise CatwalkError("cloth triangles must be (T, 3) indices of the positions")
-        self._ensure_normals()
-        if self._sharp is None:  # from the first pose the collider saw
-            # of the torso only: the limbs' (fingers, knuckles, toes) rub cloth at every
-            # step of a walk and would tent it frame after frame
-            torso = np.nonzero(self.parts == 0)[0]
-            key = hashlib.blake2b(self.v1[torso].tobytes(), digest_size=16).digest()
-            if key not in _SHARP_CACHE:
-                if len(_SHARP_CACHE) >= 8:
-                    _SHARP_CACHE.pop(next(iter(_SHARP_CACHE)))
-                _SHARP_CACHE[key] = torso[sharp_vertices(self.v1[torso], self.n1[torso])]
-            self._sharp = _SHARP_CACHE[key]
-        key = (id(triangles), len(x))
-        if self._sharp_csr_key != key:
-            self._sharp_csr = point_triangles(tris, len(x))
-            self._sharp_csr_key = key
-        t = _clock()
         if moved is None:
             moved = np.zeros(0, bool)
         elif not (isinstance(moved, np.ndarray) and moved.dtype == bool
                   and moved.shape == (len(x),)):
             raise CatwalkError("moved must be a (P,) bool array")
+        self._ensure_normals()
+        if self._sharp is None:
+            self._sharp = self._sharp_vertices()
+        key = (hashlib.blake2b(tris.tobytes(), digest_size=16).digest(), len(x))
+        if self._sharp_csr_key != key:
+            self._sharp_csr = incident_faces(tris, len(x))
+            self._sharp_csr_key = key
+        t = _clock()
         n = push_off_sharp(x, tris, *self._sharp_csr, self._sharp, self.v1, self.n1,
                            self.thickness, SHARP_DEPTH, 0.02, moved)
         self.timings.sharp += _clock() - t
         self.timings.sharp_pushes += int(n)
         return int(n)
+
+    def _sharp_vertices(self) -> np.ndarray:
+        """The torso's sharp vertices in the first pose the collider was given (kept per pose
+        and parts for the process). Of the torso only: the limbs' (fingers, knuckles, toes) rub
+        cloth at every step of a walk and would tent it frame after frame."""
+        torso = np.nonzero(self.parts == 0)[0]
+        v = self._first_v[torso]
+        # (in float32: the walk's poses are skinned in float32, the dressing's rest pose not)
+        hsh = hashlib.blake2b(v.astype(np.float32).tobytes(), digest_size=16)
+        hsh.update(torso.tobytes())
+        key = hsh.digest()
+        if key not in _SHARP_CACHE:
+            if len(_SHARP_CACHE) >= 8:
+                _SHARP_CACHE.pop(next(iter(_SHARP_CACHE)))
+            n = vertex_normals(self._first_v, self.faces)[torso]
+            _SHARP_CACHE[key] = torso[sharp_vertices(v, n)]
+        return _SHARP_CACHE[key]
 
     # ------------------------------------------------------------------ reports
     def reset_stats(self) -> None:

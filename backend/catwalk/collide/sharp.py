@@ -12,7 +12,8 @@ its three points moved by their barycentric weights (w_i / Σ w_j², so the poin
 triangle over the vertex moves by exactly the amount needed).
 
 Cloth points are found through a uniform grid built per call (cells of ``cell`` metres);
-the cloth's point → triangle incidence is a CSR built once per triangle array.
+the cloth's point → triangle incidence is a CSR (``render.raster.incident_faces``) built once
+per triangle array.
 """
 
 from __future__ import annotations
@@ -45,16 +46,6 @@ def sharp_vertices(vertices: np.ndarray, normals: np.ndarray, radius: float = SH
     mean = (v[idx] * ok[..., None]).sum(axis=1) / np.maximum(cnt, 1)[:, None]
     h = np.einsum("ij,ij->i", v - mean, normals)
     return np.nonzero((h > height) & (cnt >= 4))[0].astype(np.int64)
-
-
-def point_triangles(triangles: np.ndarray, n_points: int) -> tuple[np.ndarray, np.ndarray]:
-    """CSR (pointer, triangle ids) of the triangles at each point."""
-    t = np.asarray(triangles, dtype=np.int64)
-    owner = t.reshape(-1)
-    order = np.argsort(owner, kind="stable")
-    ptr = np.zeros(n_points + 1, np.int64)
-    np.cumsum(np.bincount(owner, minlength=n_points), out=ptr[1:])
-    return ptr, (order // 3).astype(np.int64)
 
 
 @numba.njit(cache=True)

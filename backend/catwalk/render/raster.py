@@ -399,3 +399,12 @@ def vertex_normals(vertices, faces) -> np.ndarray:
     out = np.empty_like(v)
     vertex_normals_kernel(v, np.ascontiguousarray(faces, dtype=np.int64), out)
     return out
+
+
+def incident_faces(faces, n_vertices: int) -> tuple[np.ndarray, np.ndarray]:
+    """The faces at each vertex as CSR: (pointer (n+1,), face ids), ids ascending per vertex."""
+    f = np.asarray(faces, dtype=np.int64).ravel()
+    order = np.argsort(f, kind="stable")
+    ptr = np.zeros(n_vertices + 1, dtype=np.int64)
+    np.cumsum(np.bincount(f, minlength=n_vertices), out=ptr[1:])
+    return ptr, (order // 3).astype(np.int64)

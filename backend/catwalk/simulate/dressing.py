@@ -402,7 +402,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
     # they come through between three points that are all outside (the resolves see points)
     display = st.positions.copy()
     sharp = collider.push_off_sharp(display, welded.triangles)
-    sharp_mm = 1e3 * float(np.sqrt(np.max(np.sum((display - st.positions) ** 2, axis=1))))
+    sharp_mm = 1e3 * _max_move(display, st.positions)
     t_end = time.perf_counter()
 
     # --- seams still open ---

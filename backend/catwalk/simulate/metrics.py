@@ -12,15 +12,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from catwalk.collide.bvh import closest_on_triangle
-from catwalk.render.raster import vertex_normals
-
-
-def _incident(faces: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
-    f = faces.ravel()
-    order = np.argsort(f, kind="stable")
-    ptr = np.zeros(n + 1, dtype=np.int64)
-    np.cumsum(np.bincount(f, minlength=n), out=ptr[1:])
-    return ptr, (order // 3).astype(np.int64)
+from catwalk.render.raster import incident_faces, vertex_normals
 
 
 @numba.njit(cache=True)
@@ -59,7 +51,7 @@ class BodySurface:
 
     def __init__(self, faces: np.ndarray, n_vertices: int, k: int = 8):
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
-        self.ptr, self.inc = _incident(self.faces, n_vertices)
+        self.ptr, self.inc = incident_faces(self.faces, n_vertices)
         self.k = int(k)
 
     def signed_distance(self, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -33,6 +33,7 @@ from catwalk.simulate.dressing import (
     ORDER_TOLERANCE,
     Cancelled,
     Dressed,
+    _max_move,
     _never,
     _quiet,
     advance,
@@ -163,8 +164,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
             ncols.append(n_col)
             if n_sharp:
                 sharp += n_sharp
-                sharp_mm = max(sharp_mm, float(np.sqrt(np.max(np.sum(
-                    (xs - state.positions) ** 2, axis=1)))))
+                sharp_mm = max(sharp_mm, _max_move(xs, state.positions))
             out[rec] = xs[dressed.rep]
             e = strain_of(model, state.positions)
             strains.append(float(e.max()) if len(e) else 0.0)
