@@ -53,6 +53,32 @@ def test_curved_outline_has_outline_points_and_covers_its_area():
     assert m.spring_rest.min() > 0.3 * 0.015
 
 
+def test_no_point_is_much_stiffer_for_its_mass_than_the_median_point(monkeypatch):
+    # a circle sampled finer than h: outline points with many short springs and little area
+    # get more mass, the total kept
+    import catwalk.cloth.builder as builder
+
+    fab = get_fabric("cotton-jersey")
+
+    def omega2(m):
+        ksum = np.bincount(m.spring_a, m.spring_k, m.n_points) + \
+            np.bincount(m.spring_b, m.spring_k, m.n_points)
+        return ksum / m.mass
+
+    m = build_cloth([Panel(circle(0.1, 90))], fabric=fab, h=0.015)
+    w2 = omega2(m)
+    assert w2.max() <= builder._MAX_OMEGA2 * np.median(w2) * (1 + 1e-6)
+    assert m.mass.sum() == pytest.approx(fab.density * _tri_area(m).sum(), rel=1e-9)
+    monkeypatch.setattr(builder, "_MAX_OMEGA2", np.inf)
+    free = build_cloth([Panel(circle(0.1, 90))], fabric=fab, h=0.015)
+    assert omega2(free).max() > 1.5 * np.median(omega2(free))  # the test has such points
+    # only those points: the others keep their share of the total
+    raised = m.mass > free.mass * (1 + 1e-9)
+    assert 0 < raised.sum() <= 0.1 * m.n_points
+    assert np.allclose(m.mass[~raised] / free.mass[~raised], m.mass[~raised][0] /
+                       free.mass[~raised][0], rtol=1e-12)
+
+
 def test_seams_get_matching_point_counts():
     # a short straight edge sewn to a longer curved one, and a reversed seam
     a = np.array([[0, 0], [0.2, 0], [0.2, 0.3], [0, 0.3]], float)

@@ -77,7 +77,7 @@ def test_run_forces_equal_the_plain_spring_loop_bit_for_bit(scale):
     none = np.zeros(0, dtype=np.int32)
     K.accumulate_forces(np.ascontiguousarray(x.T), np.ascontiguousarray(v.T), m.mass, runs,
                         n_runs_lim, m.spring_rest, m.spring_k, m.spring_c, m.fabric.compression,
-                        gravity, m.fabric.air, none, none, 0.0, 0.0, F)
+                        gravity, m.fabric.air, none, none, 0.0, F)
     ref = _reference_forces(m, x, v, gravity, m.fabric.air)
     assert np.array_equal(F.T, ref)
 
@@ -138,3 +138,30 @@ def test_a_cloth_with_irregular_outlines_runs():
     sol = Solver(m, "ordered")
     sol.run(m, st, 0.05)
     assert np.all(np.isfinite(st.positions))
+
+
+def test_seam_damping_is_implicit_pair_by_pair_and_keeps_momentum():
+    rng = np.random.default_rng(3)
+    n = 6
+    V = rng.normal(0, 1.0, (3, n))
+    w = np.array([1.0 / 2e-5, 1.0 / 3e-5, 1.0 / 5e-5, 0.0, 1.0 / 4e-5, 1.0 / 1e-5])
+    sa = np.array([0, 2, 4], dtype=np.int32)
+    sb = np.array([1, 3, 5], dtype=np.int32)
+    c, dt = 0.05, 1e-3          # dt·c·w ≫ 1: explicit damping would overshoot and flip
+    V0 = V.copy()
+    K.damp_seams(V, sa, sb, w, c, dt)
+    for a, b in zip(sa, sb, strict=True):
+        rel0 = V0[:, b] - V0[:, a]
+        rel = V[:, b] - V[:, a]
+        assert np.allclose(rel, rel0 / (1.0 + dt * c * (w[a] + w[b])))
+        m = np.where(w[[a, b]] > 0, 1.0 / np.maximum(w[[a, b]], 1e-300), 0.0)
+        if w[a] > 0 and w[b] > 0:   # momentum of the pair kept
+            assert np.allclose(m[0] * V[:, a] + m[1] * V[:, b],
+                               m[0] * V0[:, a] + m[1] * V0[:, b])
+    assert np.array_equal(V[:, 3], V0[:, 3])   # a pinned point (w = 0) is not moved
+    # the same as the explicit damping force for small dt·c·w
+    V = V0.copy()
+    K.damp_seams(V, sa, sb, w, 1e-9, 1e-6)
+    a, b = 0, 1
+    f = 1e-9 * (V0[:, b] - V0[:, a])
+    assert np.allclose(V[:, a] - V0[:, a], 1e-6 * w[a] * f, rtol=1e-6)

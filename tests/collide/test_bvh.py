@@ -28,6 +28,21 @@ def test_every_triangle_is_in_a_leaf_of_its_part_and_duplication_is_bounded():
     assert 1.0 <= h.dup < 4.0  # triangles copied across split planes
 
 
+def test_leaf_vertices_are_each_leafs_distinct_vertices_in_order():
+    m, fp = _body()
+    parts = {p: np.nonzero(fp == p)[0] for p in range(1, 5)}
+    h = B.build(m.rest, m.faces, parts, leaf_size=8)
+    start, lv = B.leaf_vertices(h, m.faces)
+    assert start[0] == 0 and start[-1] == len(lv) and np.all(np.diff(start) >= 0)
+    for n in range(h.n_nodes):
+        got = lv[start[n]:start[n + 1]]
+        if h.links[n, 0] >= 0:
+            assert len(got) == 0
+            continue
+        refs = h.tris[h.links[n, 2]:h.links[n, 2] + h.links[n, 3]]
+        assert np.array_equal(got, np.unique(m.faces[refs]))
+
+
 def test_refit_boxes_contain_each_frames_triangles():
     m, fp = _body()
     parts = {p: np.nonzero(fp == p)[0] for p in range(1, 5)}

@@ -12,9 +12,11 @@ from catwalk.simulate.walking import strain_of
 
 
 # Every catalogue garment in size S on the base body of its sex (the trousers' S is the size
-# of the base male body: M and L slide down its hips), except the bodice: size S on the sample
-# body female-S (drafted with that body's biceps and bust span, docs/tryon.md; its armhole
-# does not go round the base body's arm roots).
+# of the base male body: M and L slide down its hips), except the bodice and the pencil skirt:
+# size S on the sample body female-S, which they were drafted for (the bodice's armhole does
+# not go round the base body's arm roots, docs/tryon.md; the skirt's waist is tight on the base
+# body, whose waist springs the body holds at both ends ended 0.12–0.23 over the limit
+# depending on the code version and machine).
 @pytest.mark.parametrize("name", ["dress", "pencil-skirt", "gc-dress-pencil", "tshirt",
                                   "gc-shirt", "bodice", "trousers"])
 def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
@@ -22,7 +24,8 @@ def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
 
     g = load_garment(repo_root / "garments" / f"{name}.json")
     body, size = {"trousers": (male_body, "S"),
-                  "bodice": (sample_body("female-S"), "S")}.get(name, (dressable_body, "S"))
+                  "bodice": (sample_body("female-S"), "S"),
+                  "pencil-skirt": (sample_body("female-S"), "S")}.get(name, (dressable_body, "S"))
     d = dress(body, g, size, settings=preset("fast"))
     st = d.stats
     assert st["settled"]                          # converged: RMS speed under 2 cm/s
@@ -38,9 +41,8 @@ def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
     # two held ends (a tight shoulder, a dart's top) a few springs stay over it
     assert np.percentile(e, 99) <= tau + 0.01
     assert np.mean(e > tau + 0.01) < 0.01
-    # after the final strain relief the maximum is at the limit too, except on the pencil
-    # skirt, whose waist is tight on this body (hips 0.91 m, the size's 0.98): 0.12 (τ 0.04)
-    assert e.max() <= (0.13 if name == "pencil-skirt" else tau + 0.01)
+    # after the final strain relief the maximum is at the limit too
+    assert e.max() <= tau + 0.01
     assert e.max() <= st["strain_before_relief"] + 0.005   # the relief makes nothing worse
     # what is shown: the same cloth, pushed off the body's sharp vertices (bust points) where
     # they come through a triangle — outwards, by at most a couple of centimetres

@@ -55,6 +55,7 @@ DEFAULT_H = 0.015
 MAX_POINTS = 400_000
 _CLEARANCE = 0.45  # grid points closer than this × h to the outline are dropped
 _MIN_AREA = 0.5  # least area (× h²) a point's mass stands for: a straight edge point's
+_MAX_OMEGA2 = 1.5  # no point's Σk/m above this × the median point's (see build_cloth)
 
 
 @dataclass
@@ -437,6 +438,11 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     area = float(tarea.sum())
     mass = np.maximum(mass, _MIN_AREA * h * h)
     mass *= fab.density * area / mass.sum()
+    # the stiffest points for their mass (outline points where many short springs meet) set
+    # the explicit step for all: no point's ω² = Σk/m above _MAX_OMEGA2 × the median point's
+    # (its stable step at least 1/√_MAX_OMEGA2 of the median's), then rescale to the total
+    mass = _stiffness_floor(mass, sa, sb, k)
+    mass *= fab.density * area / mass.sum()
     m_red = mass[sa] * mass[sb] / (mass[sa] + mass[sb])
     c_damp = 2.0 * fab.damping * np.sqrt(k * m_red)
 
@@ -466,6 +472,18 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
         adj_ptr=adj_ptr, adj_spring=adj_spring, adj_other=adj_other, triangles=triangles,
         seam_a=_cat(sea), seam_b=_cat(seb), seam_id=_cat(sid),
         panel_names=[p.name for p in panels])
+
+
+def _stiffness_floor(mass: np.ndarray, sa: np.ndarray, sb: np.ndarray,
+                     k: np.ndarray) -> np.ndarray:
+    """Masses raised where a point's ω² = Σk/m exceeds ``_MAX_OMEGA2`` × the median point's."""
+    ksum = np.bincount(sa, weights=k, minlength=len(mass)) + \
+        np.bincount(sb, weights=k, minlength=len(mass))
+    w2 = ksum / mass
+    if not len(w2) or not np.any(w2 > 0):
+        return mass
+    cap = _MAX_OMEGA2 * float(np.median(w2[w2 > 0]))
+    return np.maximum(mass, ksum / cap)
 
 
 def _across_seams(seam_pts: dict, n_seams: int, npts: int) -> np.ndarray:

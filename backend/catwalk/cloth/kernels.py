@@ -138,8 +138,9 @@ def _spring_force(dx, dy, dz, dvx, dvy, dvz, r, kk, cc, comp, compress):
 
 @numba.njit(cache=True, error_model="numpy")
 def accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air, seam_a,
-                      seam_b, seam_k, seam_c, F):
-    """F = Σ springs (eq. 2 + damping along the spring) + seams + m·g − air·m·v, on (3, n) arrays.
+                      seam_b, seam_k, F):
+    """F = Σ springs (eq. 2 + damping along the spring) + seams' springs + m·g − air·m·v, on
+    (3, n) arrays (the seams' damping is taken implicitly: :func:`damp_seams`).
 
     ``runs``: the springs in runs (:func:`spring_runs`); the first ``n_runs_lim`` runs are the
     stretch/shear springs, which push back ``compress`` times as hard as they pull: woven and
@@ -222,15 +223,38 @@ def accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravit
         gz = X[2, b] - X[2, a]
         gl = np.sqrt(gx * gx + gy * gy + gz * gz)
         ks = seam_k if gl <= SEAM_REACH else seam_k * SEAM_REACH / gl
-        fx = ks * gx + seam_c * (V[0, b] - V[0, a])
-        fy = ks * gy + seam_c * (V[1, b] - V[1, a])
-        fz = ks * gz + seam_c * (V[2, b] - V[2, a])
+        fx = ks * gx
+        fy = ks * gy
+        fz = ks * gz
         F[0, a] += fx
         F[1, a] += fy
         F[2, a] += fz
         F[0, b] -= fx
         F[1, b] -= fy
         F[2, b] -= fz
+
+
+@numba.njit(cache=True, error_model="numpy")
+def damp_seams(V, seam_a, seam_b, w_int, seam_c, dt):
+    """The seams' damping (force ``seam_c``·(v_b − v_a) on a), backward Euler pair by pair:
+    the pair's relative velocity becomes v_rel / (1 + dt·c·(w_a + w_b)), momentum kept. Taken
+    explicitly, this damping (critical for the seam springs) would bound the sewing step
+    below the fabric's own stable step."""
+    for s in range(seam_a.shape[0]):
+        a = seam_a[s]
+        b = seam_b[s]
+        wa = w_int[a]
+        wb = w_int[b]
+        g = dt * seam_c / (1.0 + dt * seam_c * (wa + wb))
+        jx = g * (V[0, b] - V[0, a])
+        jy = g * (V[1, b] - V[1, a])
+        jz = g * (V[2, b] - V[2, a])
+        V[0, a] += wa * jx
+        V[1, a] += wa * jy
+        V[2, a] += wa * jz
+        V[0, b] -= wb * jx
+        V[1, b] -= wb * jy
+        V[2, b] -= wb * jz
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -636,13 +660,14 @@ def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa,
     moved = False
     for step in range(nsteps):
         accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air,
-                          seam_a, seam_b, seam_k, seam_c, F)
+                          seam_a, seam_b, seam_k, F)
         st, bad = integrate_velocities(V, F, w_int, dt, vmax)
         if st != 0:
             out_bad[0] = step
             out_bad[1] = bad
             status = st
             break
+        damp_seams(V, seam_a, seam_b, w_int, seam_c, dt)
         if method == METHOD_ORDERED:
             if react > 0.0:
                 R[:, :] = 0.0

@@ -110,7 +110,8 @@ class Solver:
     follow-the-leader, which is unstable). ``share``: also share what a point's parents could
     not agree on with them. ``provot_iterations``: passes of Provot's correction per step.
     ``sewing``: apply seam forces (``seam_stiffness`` N/m per point pair, ``seam_damping``
-    N·s/m) and count seam points as high-tension centres. ``extra_air`` (1/s) adds air drag,
+    N·s/m, the damping taken implicitly so that it does not bound the step) and count seam
+    points as high-tension centres. ``extra_air`` (1/s) adds air drag,
     e.g. to settle a drape faster. ``held_fixed``: points held by the body are immovable in the
     strain limit (the paper); False lets them be corrected like free points, so that cloth
     pulled round the body while sewing can slide instead of being pinned where it touches.
@@ -217,9 +218,9 @@ class Solver:
             np.add.at(ksum, ends, model.spring_k)
             np.add.at(csum, ends, model.spring_c)
         if self.sewing and len(model.seam_a):
+            # (the seams' damping is implicit, kernels.damp_seams: no bound)
             for ends in (model.seam_a, model.seam_b):
                 np.add.at(ksum, ends, self.seam_stiffness)
-                np.add.at(csum, ends, self.seam_damping)
         m = model.mass
         a = 2.0 * ksum / m
         b = 2.0 * (2.0 * csum / m + model.fabric.air + self.extra_air)

@@ -318,22 +318,49 @@ def closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
 
 def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:
     """Each leaf's distinct vertices, for :func:`refit_frame`: (``start`` (K+1,), ``verts``)
-    with node n's vertices ``verts[start[n]:start[n + 1]]`` (none for inner nodes). A leaf
-    of ~15 triangles has ~12 distinct vertices: a third of the reads of a walk over its
-    triangles' corners."""
-    f = np.asarray(faces, dtype=np.int64)
-    k = h.n_nodes
-    leaf = np.nonzero(h.links[:, 0] < 0)[0]
-    cnt = h.links[leaf, 3]
-    node = np.repeat(leaf, cnt)
-    refs = np.concatenate([h.tris[s:s + c] for s, c in zip(h.links[leaf, 2], cnt, strict=True)]) \
-        if len(leaf) else np.zeros(0, np.int64)
-    # distinct (node, vertex) pairs in node-then-vertex order, as one int64 key each
-    nv = int(f.max()) + 1 if f.size else 1
-    keys = np.unique(np.repeat(node, 3) * nv + f[refs].ravel())
+    with node n's vertices ``verts[start[n]:start[n + 1]]`` in increasing order (none for
+    inner nodes). A leaf of ~15 triangles has ~12 distinct vertices: a third of the reads of a
+    walk over its triangles' corners."""
+    f = np.ascontiguousarray(faces, dtype=np.int64).reshape(-1, 3)
+    return _leaf_vertices_kernel(h.links, h.tris, f)
+
+
+@numba.njit(cache=True)
+def _leaf_vertices_kernel(links, tris, faces):
+    k = links.shape[0]
     start = np.zeros(k + 1, np.int64)
-    np.add.at(start, keys // nv + 1, 1)
-    return np.cumsum(start), np.ascontiguousarray(keys % nv, dtype=np.int64)
+    room = 0
+    nv = 1
+    for nd in range(k):
+        if links[nd, 0] < 0:
+            room += 3 * links[nd, 3]
+    for i in range(faces.shape[0]):
+        for q in range(3):
+            nv = max(nv, faces[i, q] + 1)
+    seen = np.full(nv, -1, np.int64)   # the last leaf a vertex was taken for
+    out = np.empty(room, np.int64)
+    m = 0
+    for nd in range(k):
+        start[nd] = m
+        if links[nd, 0] >= 0:
+            continue
+        s = links[nd, 2]
+        first = m
+        for t in range(links[nd, 3]):
+            for q in range(3):
+                v = faces[tris[s + t], q]
+                if seen[v] == nd:
+                    continue
+                seen[v] = nd
+                # insertion into the leaf's sorted run
+                j = m
+                while j > first and out[j - 1] > v:
+                    out[j] = out[j - 1]
+                    j -= 1
+                out[j] = v
+                m += 1
+    start[k] = m
+    return start, out[:m].copy()
 
 
 @numba.njit(cache=True, _nrt=False)

@@ -364,7 +364,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
         if cancel():
             raise Cancelled("dressing cancelled")
         prev[:] = st.positions
-        advance(solver, welded, st, collider, CHUNK, settings.sew_collisions, x0,
+        advance(solver, welded, st, collider, CHUNK, settings.settle_collisions, x0,
                 settings.max_collisions * 4, dclock)
         speed = _rms_move(st.positions, prev) / CHUNK   # √(2·kinetic energy / mass)
         speeds.append(round(speed, 4))
@@ -395,7 +395,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
     # held points too, along the body, and push them back out, a few times
     strain_settled = max_strain(welded, st.positions)
     for _ in range(STRAIN_RELIEF_ROUNDS):
-        solver.after_collision(welded, st, CHUNK / settings.sew_collisions, move_held=True)
+        solver.after_collision(welded, st, CHUNK / settings.settle_collisions, move_held=True)
         collide_and_floor(st, collider, x0, 1.0)
     st.velocities[:] = 0.0
     # what is shown: the body's sharp vertices (bust points) pushed out of the cloth triangles

@@ -17,7 +17,10 @@ class Settings:
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
     the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame.
-    Dressing: seams pull with angular frequency ``sew_omega`` (rad/s, spring k = ω²·m) for at
+    Dressing: ``sew_collisions`` / ``settle_collisions`` collider resolves per 1/30 s while
+    sewing / settling (the body stands still: between two, contact planes hold the points it
+    holds; settling cloth moves at cm/s, sewing cloth at up to m/s). Seams pull with angular
+    frequency ``sew_omega`` (rad/s, spring k = ω²·m) for at
     most ``sew_seconds`` of simulated time or until every gap is under ``weld_gap`` or the gaps
     stopped shrinking for ``sew_stall_seconds`` (0: never give up early); pairs within
     ``weld_reach`` are then welded, the others keep pulling while gravity settles the garment
@@ -39,6 +42,7 @@ class Settings:
     min_collisions: int = 10
     max_collisions: int = 60
     sew_collisions: int = 10
+    settle_collisions: int = 5
     sew_omega: float = 500.0
     sew_seconds: float = 2.0
     sew_stall_seconds: float = 0.3
@@ -63,8 +67,8 @@ class Settings:
             raise InputError(f"grid spacing h must be within 0.004–0.1 m, got {self.h}")
         if self.min_collisions < 1 or self.max_collisions < self.min_collisions:
             raise InputError("need 1 <= min_collisions <= max_collisions")
-        if self.sew_collisions < 1:
-            raise InputError("sew_collisions must be >= 1")
+        if self.sew_collisions < 1 or self.settle_collisions < 1:
+            raise InputError("sew_collisions and settle_collisions must be >= 1")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
@@ -84,7 +88,7 @@ PRESETS: dict[str, Settings] = {
     "balanced": Settings(),
     "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
                          min_collisions=40, max_collisions=120, thickness=0.003,
-                         sew_collisions=40,
+                         sew_collisions=40, settle_collisions=20,
                          sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.015),
 }
 
