@@ -17,7 +17,7 @@ import time
 
 PAPER = {"machine": "Pentium 4, 2.8 GHz (2007)", "points": 3372, "springs": 18623,
          "sewing_s": 2.264, "image_ms_per_frame": 405.0, "hybrid_ms_per_frame": 557.0}
-TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0}
+TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0, "sewing_s": 0.5}
 
 
 def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float, int]:
@@ -115,15 +115,18 @@ def format_table(r: dict) -> str:
         "",
         "| | seed (P4 2.8 GHz, 2007) | catwalk (this machine, one core) |",
         "|---|---|---|",
-        f"| sewing the dress | {PAPER['sewing_s']} s | {r['sewing_s']:.2f} s (sew "
+        f"| sewing the dress | {PAPER['sewing_s']} s | {r['sewing_warm_s']:.2f} s in a worker "
+        f"(the second dressing in this process); the first, in a fresh process, "
+        f"{r['sewing_s']:.2f} s with loading the compiled kernels (sew "
         f"{r['sewing']['sewing_s']:.2f} s + settle {r['sewing']['settling_s']:.2f} s wall; "
-        f"open seam gap {r['sewing']['seam_gap_m'] * 1e3:.1f} mm); again in the same process "
-        f"{r['sewing_warm_s']:.2f} s |",
+        f"open seam gap {r['sewing']['seam_gap_m'] * 1e3:.1f} mm) |",
         row("walk, basic image-space", "405 ms/frame", "image"),
         row("walk, hybrid collider", "557 ms/frame", "hybrid"),
         row("walk, object space (catwalk's default)", "—", "object"),
         "",
-        f"target: hybrid ≤ {TARGET['hybrid_ms_per_frame']} ms/frame with max penetration ≤ "
+        f"targets: sewing ≤ {TARGET['sewing_s']} s (worker: "
+        f"{'met' if r['sewing_warm_s'] <= TARGET['sewing_s'] else 'missed'}); hybrid ≤ "
+        f"{TARGET['hybrid_ms_per_frame']} ms/frame with max penetration ≤ "
         f"{TARGET['max_penetration_mm']} mm",
         "figure 10 (capsule mannequin, forearm across the torso, panel 6 mm over it, one "
         "resolve): " + ", ".join(

@@ -1,0 +1,26 @@
+"""`catwalk bench paper`'s table: the worker's dressing time leads and is judged against the
+target, the fresh process's is named as such; the walk rows say what blew up."""
+
+from catwalk.bench.paper import PAPER, TARGET, format_table
+
+
+def _result(warm, fresh):
+    walk = {"ms_per_frame": 44.0, "max_penetration_mm": 0.3, "p99_penetration_mm": 0.0,
+            "max_strain": 0.5, "p99_strain": 0.1}
+    return {"garment": "dress", "size": "M", "h_m": 0.0177, "points": 3378, "springs": 19683,
+            "frames": 53, "machine": {"cpu": "test", "threads": 1},
+            "sewing_s": fresh, "sewing_warm_s": warm,
+            "sewing": {"sewing_s": 0.2, "settling_s": 0.3, "seam_gap_m": 0.0},
+            "image": {"exploded": "walk frame 35: a point over 100 m/s"},
+            "hybrid": walk, "object": walk, "figure10": {}, "paper": PAPER, "target": TARGET}
+
+
+def test_the_worker_time_leads_and_is_judged_against_the_target():
+    t = format_table(_result(0.43, 0.52))
+    row = next(line for line in t.splitlines() if line.startswith("| sewing the dress"))
+    assert row.index("0.43 s in a worker") < row.index("0.52 s")
+    assert "fresh process" in row
+    assert "sewing ≤ 0.5 s (worker: met)" in t
+    assert "sewing ≤ 0.5 s (worker: missed)" in format_table(_result(0.61, 0.7))
+    assert "exploded: walk frame 35" in t
+    assert "44.0 ms/frame (max penetration 0.30 mm" in t
