@@ -284,6 +284,8 @@ class Collider:
         self._sharp = None            # the body's sharp vertices (collide/sharp.py)
         self._sharp_csr = None
         self._sharp_csr_key = None
+        self._sharp_src = self._sharp_tris = None   # the triangles last given, as given/int64
+        self._sharp_n = -1
 
     # ------------------------------------------------------------------ per frame
     def update(self, body_vertices, body_velocities=None, substeps: int | None = None) -> None:
@@ -665,11 +667,21 @@ class Collider:
         if not (isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 2 and
                 x.shape[1] == 3 and x.flags.c_contiguous and x.flags.writeable):
             raise CatwalkError("positions must be a writable C-contiguous float64 (P, 3) array")
-        tris = np.ascontiguousarray(triangles, dtype=np.int64)
-        if len(tris) == 0 or len(x) == 0:
+        if len(x) == 0 or len(triangles) == 0:
             return 0
-        if tris.ndim != 2 or tris.shape[1] != 3 or tris.min() < 0 or tris.max() >= len(x):
-            raise CatwalkError("cloth triangles must be (T, 3) indices of the positions")
+        if triangles is not self._sharp_src or len(x) != self._sharp_n:
+            # a walk passes the same triangles every frame: converted, checked and their
+            # incidence built once per array (held here, so its identity is not reused; a
+            # model's triangles are never changed in place)
+            tris = np.ascontiguousarray(triangles, dtype=np.int64)
+            if tris.ndim != 2 or tris.shape[1] != 3 or tris.min() < 0 or tris.max() >= len(x):
+                raise CatwalkError("cloth triangles must be (T, 3) indices of the positions")
+            key = (hashlib.blake2b(tris.tobytes(), digest_size=16).digest(), len(x))
+            if self._sharp_csr_key != key:
+                self._sharp_csr = incident_faces(tris, len(x))
+                self._sharp_csr_key = key
+            self._sharp_src, self._sharp_n, self._sharp_tris = triangles, len(x), tris
+        tris = self._sharp_tris
         if moved is None:
             moved = np.zeros(0, bool)
         elif not (isinstance(moved, np.ndarray) and moved.dtype == bool
@@ -678,10 +690,6 @@ class Collider:
         self._ensure_normals()
         if self._sharp is None:
             self._sharp = self._sharp_vertices()
-        key = (hashlib.blake2b(tris.tobytes(), digest_size=16).digest(), len(x))
-        if self._sharp_csr_key != key:
-            self._sharp_csr = incident_faces(tris, len(x))
-            self._sharp_csr_key = key
         t = _clock()
         n = push_off_sharp(x, tris, *self._sharp_csr, self._sharp, self.v1, self.n1,
                            self.thickness, SHARP_DEPTH, 0.02, moved)

@@ -443,7 +443,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
         "strain_after_weld": float(strain_weld), "strain_before_relief": float(strain_settled),
         "relief_rounds": relief_rounds,
         "sharp_pushes": int(sharp), "sharp_push_max_mm": sharp_mm,
-        "max_strain": float(max_strain(welded, st.positions)),
+        "max_strain": float(strain),   # after the relief (the velocities zeroed since)
         "settle_speed_rms_m_s": float(speed),
         "settle_speed_p99_m_s": _p99_move(st.positions, prev) / CHUNK,
         "settle_speed_max_m_s": _max_move(st.positions, prev) / CHUNK,
