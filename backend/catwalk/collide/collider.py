@@ -180,7 +180,7 @@ class Collider:
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
                  map_region_pad=0.05, edge_fallback=True, limb_fallback=True,
-                 skips: Skips | None = None):
+                 second_surface=True, skips: Skips | None = None):
         if mode not in MODES:
             raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
         faces = np.asarray(body_faces)
@@ -219,6 +219,10 @@ class Collider:
         self.edge_normal_z = float(edge_normal_z)
         self.map_region_pad = float(map_region_pad)
         self.leaf_size = int(leaf_size)
+        # a point near its closest part may be inside another one (cloth pinched between a
+        # hand and the thigh, an arm and the torso): look for it (kernels._second_surface)
+        self.second_surface = bool(second_surface)
+        self._rec2 = np.zeros((1, 54), np.float32)
         self.skips = skips or Skips()
         in_maps = {"image": range(5), "hybrid": [0], "object": []}[mode]
         in_tree = {"image": [], "hybrid": [1, 2, 3, 4], "object": range(5)}[mode]
@@ -629,7 +633,7 @@ class Collider:
                       self._frame, pts.rkey, pts.rec, pts.pspeed, pts.pstamp,
                       self._spd, pts.last, pts.pclk, ck, pts.csw, pts.crel,
                       pts.cstamp, self.search_radius, pts.ct2, pts.cp2, pts.cc2,
-                      pts.left, self._lf, self.planes, only)
+                      pts.left, self._lf, self.planes, only, self.second_surface, self._rec2)
         self.timings.object_queries += _clock() - t
         return pts
 
@@ -732,7 +736,8 @@ class Collider:
         d = {"mode": self.mode, "thickness": self.thickness, "friction": self.friction,
              "map_parts": [PART_NAMES[p] for p in np.nonzero(self.map_parts)[0]],
              "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]],
-             "edge_fallback": self.edge_fallback, "limb_fallback": self.limb_fallback}
+             "edge_fallback": self.edge_fallback, "limb_fallback": self.limb_fallback,
+                "second_surface": self.second_surface}
         if self.maps is not None:
             d["map_size"] = list(self.maps.size)
         if self.tree is not None:
@@ -747,5 +752,5 @@ def make_collider(mode, body_faces, parts, **options) -> Collider:
     with faces (M,3) and per-vertex ``parts`` (N,) (0 torso+head, 1 left arm, 2 right arm,
     3 left leg, 4 right leg). Options: see :class:`Collider` (thickness, friction, map_size,
     search_radius, max_depth, reuse_tol, leaf_size, edge_fallback, limb_fallback,
-    edge_normal_z, skips=Skips(...))."""
+    second_surface, edge_normal_z, skips=Skips(...))."""
     return Collider(mode, body_faces, parts, **options)

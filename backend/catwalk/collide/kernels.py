@@ -7,7 +7,9 @@ Stats written by the passes (``stats`` int64 array, accumulated):
 0 points that passed a part's box test, 1 narrow-phase searches (hierarchy walks or map
 look-ups), 2 contacts, 3 closest-triangle results reused, 4 hierarchy nodes visited,
 5 points skipped by the box tests, 6 points skipped by their clearance, 7 triangles tested
-(closest point computed). (Numba caches a kernel by its own file: a change to the inlined
+(closest point computed), 8 points the maps left to object space, 9 points inside or within
+the thickness of a second part (:func:`_second_surface`), 10 of them pinched between two facing
+surfaces. (Numba caches a kernel by its own file: a change to the inlined
 helpers of bvh.py needs a change here too, or the cached kernel keeps the old code.)
 """
 
@@ -29,11 +31,11 @@ from catwalk.collide.bvh import (
 from catwalk.render.raster import row_span
 
 (ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS,
- ST_EDGE) = range(9)
-N_STATS = 9
+ ST_EDGE, ST_SECOND, ST_PINCH) = range(11)
+N_STATS = 11
 EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
 STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clearance_skips",
-              "triangles_tested", "edge_fallbacks")
+              "triangles_tested", "edge_fallbacks", "second_surface", "pinched")
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -136,6 +138,116 @@ def _signed_rec(px, py, pz, rec, i, alpha):
     return s, nx, ny, nz, v, w
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _rec_velocity(rec, i, alpha, bv, bw):
+    """The body's velocity at barycentric (1 − bv − bw, bv, bw) of the triangle in ``rec[i]``
+    at time alpha."""
+    b = 1.0 - alpha
+    bu = 1.0 - bv - bw
+    vx = b * (bu * rec[i, 12] + bv * rec[i, 30] + bw * rec[i, 48]) + \
+        alpha * (bu * rec[i, 15] + bv * rec[i, 33] + bw * rec[i, 51])
+    vy = b * (bu * rec[i, 13] + bv * rec[i, 31] + bw * rec[i, 49]) + \
+        alpha * (bu * rec[i, 16] + bv * rec[i, 34] + bw * rec[i, 52])
+    vz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
+        alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
+    return vx, vy, vz
+
+
+@numba.njit(cache=True, _nrt=False)
+def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx, ry, rz, vb,
+                    vp, lf, faces, nb, links, tris, roots, part_active, reach, thickness,
+                    friction, radius, stack, inv_t, spd, rec2, csw, crel, cstamp, frame,
+                    held, planes, stats):
+    """A point held by part ``kt`` (signed distance ``s1`` along n1 after its response, the
+    body moving at w1 there) may be pinched: another part's surface faces it within the
+    thickness (a hand over the thigh, the thighs, an arm against the torso, with the cloth
+    between), and pushing it off the first part alone pushed it against the second. Each other
+    part that may come within ``radius`` (its bound ``csw`` for this frame, less the point's
+    motion since) is searched for its nearest triangle within ``radius`` (the caller's
+    thickness + contact slack: with s1 ≤ that and s1 + s2 ≥ 0, a second surface that matters
+    is no farther). If the point is
+    within the thickness of it (signed s2 along n2 < thickness), the surfaces face each other
+    (n1·n2 ≤ −0.3) and do not overlap (s1 + s2 ≥ 0), the point moves along
+    u = (n1 − n2)/|n1 − n2| to keep the thickness from both where the gap allows it, else to
+    the middle of the gap; its velocity along u becomes the two surfaces' mean, with friction,
+    and its contact plane is the one through it along u (the solver keeps it off the first
+    part; the next response sees the second again). Overlapping parts (a body touching itself:
+    no position is outside both) and creases where two parts meet are left to the nearest
+    surface: putting such points in the middle of the overlap made the armpit walks worse
+    (docs/collide.md, "Overlapping parts").
+
+    Returns whether the point was moved."""
+    px = pos[i, 0]
+    py = pos[i, 1]
+    pz = pos[i, 2]
+    n_parts = roots.shape[0]
+    if cstamp[i] != frame:
+        # how near the other parts come over this frame (moving frame), as for a reused
+        # closest triangle (the same bounds serve both)
+        ro = max(s1, 0.0) + radius
+        for k2 in range(n_parts):
+            csw[i, k2] = np.inf
+            if k2 != kt and part_active[k2]:
+                bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links, roots[k2],
+                                     ro * ro, stack)
+                csw[i, k2] = math.sqrt(bo)
+                stats[ST_NODES] += nv
+        crel[i] = 0.0
+        cstamp[i] = frame
+    best = np.inf
+    t2 = -1
+    s0 = spd[0]
+    s1_ = spd[1]
+    for k2 in range(n_parts):
+        if k2 == kt or not part_active[k2] or not reach[k2] or csw[i, k2] - crel[i] > radius:
+            continue
+        d2o, tk, nv, nt, _ = closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb,
+                                                links, tris, roots[k2], radius * radius, -1,
+                                                stack, inv_t, spd)
+        stats[ST_NODES] += nv
+        stats[ST_TRIS] += nt
+        if tk >= 0 and d2o < best:
+            best = d2o
+            t2 = tk
+    spd[0] = s0
+    spd[1] = s1_
+    if t2 < 0:
+        return False
+    _fill_record(rec2, 0, vb, faces, t2)
+    s2, n2x, n2y, n2z, bv, bw = _signed_rec(px, py, pz, rec2, 0, alpha)
+    if s2 >= thickness:
+        return False
+    w2x, w2y, w2z = _rec_velocity(rec2, 0, alpha, bv, bw)
+    stats[ST_SECOND] += 1
+    c = n1x * n2x + n1y * n2y + n1z * n2z
+    gap = s1 + s2
+    if c > -0.3 or gap < 0.0:
+        return False
+    stats[ST_PINCH] += 1
+    ux = n1x - n2x
+    uy = n1y - n2y
+    uz = n1z - n2z
+    ul = math.sqrt(ux * ux + uy * uy + uz * uz)
+    ux /= ul
+    uy /= ul
+    uz /= ul
+    a = ul * 0.5  # n1·u = −n2·u
+    held[i] = True
+    target = min(thickness, 0.5 * gap)
+    d = (target - s2) / a  # along −u: s2 grows by a·d, s1 shrinks by as much
+    pos[i, 0] = px - d * ux
+    pos[i, 1] = py - d * uy
+    pos[i, 2] = pz - d * uz
+    mx = 0.5 * (w1x + w2x)
+    my = 0.5 * (w1y + w2y)
+    mz = 0.5 * (w1z + w2z)
+    vel[i, 0], vel[i, 1], vel[i, 2] = contact_velocity(vel[i, 0], vel[i, 1], vel[i, 2], ux, uy,
+                                                       uz, mx, my, mz, friction)
+    record_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], ux, uy, uz, thickness, thickness,
+                 mx, my, mz, friction)
+    return True
+
+
 @numba.njit(cache=True, _nrt=False)
 def body_motion(v0, v1, idx, ref):
     """The body's motion over a frame: ``ref`` (3,) gets the mean displacement over all
@@ -174,7 +286,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
                 reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only):
+                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only, second, rec2):
     """Object-space collision of every cloth point against the active parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
@@ -228,7 +340,11 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     coefficient; :func:`record_plane`).
 
     ``only`` (P,) bool: when not empty, only the points marked are seen (the others are
-    left as they are, their clocks too: their next motion counts everything since)."""
+    left as they are, their clocks too: their next motion counts everything since).
+
+    ``second``: also look, for each point within ``max_depth`` of its closest triangle, for a
+    second part it is inside or within the thickness of (:func:`_second_surface`); ``rec2``
+    (1,54) float32: workspace."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -503,6 +619,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 cache_p[i, 1] = py
                 cache_p[i, 2] = pz
         s, nx, ny, nz, bv, bw = _signed_rec(px, py, pz, rec, i, alpha)
+        kt = face_part[best_t]
         if s >= touch:
             if use_clear and searched and best_d2 < np.inf:
                 # outside: no triangle nearer than √best_d2 now (a point inside has none)
@@ -518,22 +635,29 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
         stats[ST_CONTACT] += 1
         if use_clear:
             clear[i] = 0.0
-        bu = 1.0 - bv - bw
-        bvx = b * (bu * rec[i, 12] + bv * rec[i, 30] + bw * rec[i, 48]) + \
-            alpha * (bu * rec[i, 15] + bv * rec[i, 33] + bw * rec[i, 51])
-        bvy = b * (bu * rec[i, 13] + bv * rec[i, 31] + bw * rec[i, 49]) + \
-            alpha * (bu * rec[i, 16] + bv * rec[i, 34] + bw * rec[i, 52])
-        bvz = b * (bu * rec[i, 14] + bv * rec[i, 32] + bw * rec[i, 50]) + \
-            alpha * (bu * rec[i, 17] + bv * rec[i, 35] + bw * rec[i, 53])
+        bvx, bvy, bvz = _rec_velocity(rec, i, alpha, bv, bw)
         record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
-        if s >= thickness:
-            continue  # touching: held, nothing to fix
-        respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
-        # where it was left, for the crossing test (the bounds count the motion from where
-        # they hold, before the push: distances change no faster than the point moves)
-        left[i, 0] = pos[i, 0]
-        left[i, 1] = pos[i, 1]
-        left[i, 2] = pos[i, 2]
+        if s < thickness:
+            respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
+            s = thickness
+            # where it was left, for the crossing test (the bounds count the motion from
+            # where they hold, before the push: distances change no faster than the point
+            # moves)
+            _left_here(left, pos, i)
+        if second:
+            if _second_surface(pos, vel, i, kt, s, nx, ny, nz, bvx, bvy, bvz, alpha, rx, ry,
+                               rz, vb, vp, lf, faces, nb, links, tris, roots, part_active,
+                               reach, thickness, friction, touch, stack, inv_t, spd, rec2,
+                               csw, crel, cstamp, frame, held, planes, stats):
+                _left_here(left, pos, i)
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _left_here(left, pos, i):
+    """Where point i was left (after a push), for the crossing test."""
+    left[i, 0] = pos[i, 0]
+    left[i, 1] = pos[i, 1]
+    left[i, 2] = pos[i, 2]
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
