@@ -12,6 +12,7 @@
 import numpy as np
 import pytest
 
+from catwalk.collide import kernels as K
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import merge, sphere
 
@@ -157,17 +158,23 @@ def test_cloth_in_a_gap_narrower_than_twice_the_thickness_keeps_half_of_it_from_
         c = make_collider(mode, f, parts, second_surface=second)
         c.update(v)
         p = pts.copy()
-        held = c.resolve(p, np.zeros_like(p), pts.copy())
+        vel = np.tile([0.0, 0.0, -0.5], (len(p), 1))  # moving into the knee
+        held = c.resolve(p, vel, pts.copy())
         assert held.all()
         out_knee = np.linalg.norm(p - knee_c, axis=1) - 0.06
         out_hand = np.linalg.norm(p - hand_c, axis=1) - 0.025
         gaps[second] = np.minimum(out_knee, out_hand).min()
         if second:
-            assert c.stats[10] == len(pts)  # every one pinched
+            assert c.stats[K.ST_PINCH] == len(pts)  # every one pinched
             # in the middle of the gap: 2.5 mm from each (tessellation: ±0.5 mm)
             assert np.abs(out_knee - out_hand).max() < 0.001
-            # moving with the surfaces' mean velocity (here 0) along the pinch, held by a plane
-            assert np.abs(c.planes[:, :3]).sum(axis=1).min() > 0.9
+            # its contact plane runs through it, across the gap (normal ≈ the knee–hand
+            # axis), not the knee's plane 4 mm out, which would push it back against the hand
+            n = c.planes[:, :3]
+            np.testing.assert_allclose(np.einsum("ij,ij->i", n, p), c.planes[:, 3], atol=1e-9)
+            assert (n[:, 2] > 0.95).all()
+            # they were moving into the knee: that motion is gone (the surfaces are still)
+            assert (vel[:, 2] >= -1e-12).all()
     assert gaps[False] < 0.0015, "the scene must show the failure it is for (1 mm from the hand)"
     assert gaps[True] > 0.002
 
@@ -184,6 +191,6 @@ def test_overlapping_parts_are_left_to_the_nearest_surface():
         c.update(v)
         p = pts.copy()
         c.resolve(p, np.zeros_like(p), pts.copy())
-        assert c.stats[10] == 0
+        assert c.stats[K.ST_PINCH] == 0
         out.append(p)
     np.testing.assert_array_equal(out[0], out[1])

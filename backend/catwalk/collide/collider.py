@@ -737,7 +737,7 @@ class Collider:
              "map_parts": [PART_NAMES[p] for p in np.nonzero(self.map_parts)[0]],
              "tree_parts": [PART_NAMES[p] for p in np.nonzero(self.tree_parts)[0]],
              "edge_fallback": self.edge_fallback, "limb_fallback": self.limb_fallback,
-                "second_surface": self.second_surface}
+             "second_surface": self.second_surface}
         if self.maps is not None:
             d["map_size"] = list(self.maps.size)
         if self.tree is not None:

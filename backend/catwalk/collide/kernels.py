@@ -7,8 +7,8 @@ Stats written by the passes (``stats`` int64 array, accumulated):
 0 points that passed a part's box test, 1 narrow-phase searches (hierarchy walks or map
 look-ups), 2 contacts, 3 closest-triangle results reused, 4 hierarchy nodes visited,
 5 points skipped by the box tests, 6 points skipped by their clearance, 7 triangles tested
-(closest point computed), 8 points the maps left to object space, 9 points inside or within
-the thickness of a second part (:func:`_second_surface`), 10 of them pinched between two facing
+(closest point computed), 8 points the maps left to object space, 9 held points within the
+thickness of a second part (:func:`_second_surface`), 10 of them pinched between two facing
 surfaces. (Numba caches a kernel by its own file: a change to the inlined
 helpers of bvh.py needs a change here too, or the cached kernel keeps the old code.)
 """
@@ -153,28 +153,49 @@ def _rec_velocity(rec, i, alpha, bv, bw):
     return vx, vy, vz
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nb, links, roots,
+                       part_active, csw, crel, cstamp, frame, stack, stats):
+    """``csw[i, k]``: how near each active part other than ``kt`` comes to point i over this
+    frame (in the moving frame: its leaf boxes swept over the frame), looked for within
+    ``ro`` (a bound of ``ro`` means "no nearer"); the point's motion since (``crel``) restarts
+    from 0 and ``cstamp[i]`` marks the frame."""
+    for k2 in range(roots.shape[0]):
+        csw[i, k2] = np.inf
+        if k2 != kt and part_active[k2]:
+            bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links, roots[k2], ro * ro,
+                                 stack)
+            csw[i, k2] = math.sqrt(bo)
+            stats[ST_NODES] += nv
+    crel[i] = 0.0
+    cstamp[i] = frame
+
+
 @numba.njit(cache=True, _nrt=False)
 def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx, ry, rz, vb,
                     vp, lf, faces, nb, links, tris, roots, part_active, reach, thickness,
-                    friction, radius, stack, inv_t, spd, rec2, csw, crel, cstamp, frame,
-                    held, planes, stats):
+                    friction, radius, cert_reach, stack, inv_t, spd, rec2, csw, crel, cstamp,
+                    frame, planes, stats):
     """A point held by part ``kt`` (signed distance ``s1`` along n1 after its response, the
     body moving at w1 there) may be pinched: another part's surface faces it within the
-    thickness (a hand over the thigh, the thighs, an arm against the torso, with the cloth
-    between), and pushing it off the first part alone pushed it against the second. Each other
-    part that may come within ``radius`` (its bound ``csw`` for this frame, less the point's
-    motion since) is searched for its nearest triangle within ``radius`` (the caller's
-    thickness + contact slack: with s1 ≤ that and s1 + s2 ≥ 0, a second surface that matters
-    is no farther). If the point is
-    within the thickness of it (signed s2 along n2 < thickness), the surfaces face each other
-    (n1·n2 ≤ −0.3) and do not overlap (s1 + s2 ≥ 0), the point moves along
-    u = (n1 − n2)/|n1 − n2| to keep the thickness from both where the gap allows it, else to
-    the middle of the gap; its velocity along u becomes the two surfaces' mean, with friction,
-    and its contact plane is the one through it along u (the solver keeps it off the first
-    part; the next response sees the second again). Overlapping parts (a body touching itself:
-    no position is outside both) and creases where two parts meet are left to the nearest
-    surface: putting such points in the middle of the overlap made the armpit walks worse
-    (docs/collide.md, "Overlapping parts").
+    thickness (a hand over the thigh, the thighs, with the cloth between), and pushing it off
+    the first part alone pushed it against the second.
+
+    Each other part that may come within ``radius`` (its bound ``csw`` for this frame less
+    the point's motion since; the bounds are taken within ``cert_reach`` beyond the first
+    surface, as a reused closest triangle's check takes them, so that one set serves both) is
+    searched for its nearest triangle within ``radius`` (the caller passes thickness +
+    contact slack: with s1 no more than that and s1 + s2 ≥ 0, a second surface that matters
+    is no farther). If the point is within the thickness of it (signed s2 along n2 <
+    thickness), the surfaces face each other (n1·n2 ≤ −0.3) and do not overlap
+    (s1 + s2 ≥ 0), the point moves along u = (n1 − n2)/|n1 − n2| to keep the thickness from
+    both where the gap allows it, else to the middle of the gap; its velocity into the first
+    surface, relative to the two surfaces' mean velocity, goes (with friction); its contact
+    plane is the one through it along u (the solver keeps it off the first part; the next
+    response sees the second again). Overlapping parts (a body touching itself: no position
+    is outside both) and creases where two parts meet are left to the nearest surface:
+    putting such points in the middle of the overlap made the armpit walks worse
+    (docs/collide.md, "Pinched between two facing surfaces").
 
     Returns whether the point was moved."""
     px = pos[i, 0]
@@ -182,18 +203,11 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     pz = pos[i, 2]
     n_parts = roots.shape[0]
     if cstamp[i] != frame:
-        # how near the other parts come over this frame (moving frame), as for a reused
-        # closest triangle (the same bounds serve both)
-        ro = max(s1, 0.0) + radius
-        for k2 in range(n_parts):
-            csw[i, k2] = np.inf
-            if k2 != kt and part_active[k2]:
-                bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links, roots[k2],
-                                     ro * ro, stack)
-                csw[i, k2] = math.sqrt(bo)
-                stats[ST_NODES] += nv
-        crel[i] = 0.0
-        cstamp[i] = frame
+        # the bounds a reused closest triangle's check takes, looked for as far (one set
+        # serves both for the rest of the frame)
+        _other_part_bounds(i, kt, max(s1, 0.0) + cert_reach, px, py, pz, alpha, rx, ry, rz,
+                           nb, links, roots, part_active, csw, crel, cstamp, frame, stack,
+                           stats)
     best = np.inf
     t2 = -1
     s0 = spd[0]
@@ -232,7 +246,6 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     uy /= ul
     uz /= ul
     a = ul * 0.5  # n1·u = −n2·u
-    held[i] = True
     target = min(thickness, 0.5 * gap)
     d = (target - s2) / a  # along −u: s2 grows by a·d, s1 shrinks by as much
     pos[i, 0] = px - d * ux
@@ -241,6 +254,9 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     mx = 0.5 * (w1x + w2x)
     my = 0.5 * (w1y + w2y)
     mz = 0.5 * (w1z + w2z)
+    # motion into the first surface (relative to the two surfaces' mean) goes, with
+    # friction; motion toward the second is left to the next response (taking it too made
+    # the walks worse: docs/collide.md)
     vel[i, 0], vel[i, 1], vel[i, 2] = contact_velocity(vel[i, 0], vel[i, 1], vel[i, 2], ux, uy,
                                                        uz, mx, my, mz, friction)
     record_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], ux, uy, uz, thickness, thickness,
@@ -342,9 +358,9 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     ``only`` (P,) bool: when not empty, only the points marked are seen (the others are
     left as they are, their clocks too: their next motion counts everything since).
 
-    ``second``: also look, for each point within ``max_depth`` of its closest triangle, for a
-    second part it is inside or within the thickness of (:func:`_second_surface`); ``rec2``
-    (1,54) float32: workspace."""
+    ``second``: also look, for each held point, for a second part facing the first within the
+    thickness, the cloth pinched between (:func:`_second_surface`); ``rec2`` (1,54) float32:
+    workspace."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -478,17 +494,9 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 kt = face_part[t]
                 dt_ = math.sqrt(d2)
                 if cstamp[i] != frame:
-                    # how near the other parts come over this frame (moving frame)
-                    ro = dt_ + cert_reach
-                    for k2 in range(n_parts):
-                        csw[i, k2] = np.inf
-                        if k2 != kt and part_active[k2]:
-                            bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links,
-                                                 roots[k2], ro * ro, stack)
-                            csw[i, k2] = math.sqrt(bo)
-                            stats[ST_NODES] += nv
-                    crel[i] = 0.0
-                    cstamp[i] = frame
+                    _other_part_bounds(i, kt, dt_ + cert_reach, px, py, pz, alpha, rx, ry, rz,
+                                       nb, links, roots, part_active, csw, crel, cstamp, frame,
+                                       stack, stats)
                 kn = -1
                 nn = 0
                 for k2 in range(n_parts):
@@ -619,7 +627,6 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
                 cache_p[i, 1] = py
                 cache_p[i, 2] = pz
         s, nx, ny, nz, bv, bw = _signed_rec(px, py, pz, rec, i, alpha)
-        kt = face_part[best_t]
         if s >= touch:
             if use_clear and searched and best_d2 < np.inf:
                 # outside: no triangle nearer than √best_d2 now (a point inside has none)
@@ -645,10 +652,11 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
             # moves)
             _left_here(left, pos, i)
         if second:
-            if _second_surface(pos, vel, i, kt, s, nx, ny, nz, bvx, bvy, bvz, alpha, rx, ry,
-                               rz, vb, vp, lf, faces, nb, links, tris, roots, part_active,
-                               reach, thickness, friction, touch, stack, inv_t, spd, rec2,
-                               csw, crel, cstamp, frame, held, planes, stats):
+            if _second_surface(pos, vel, i, face_part[best_t], s, nx, ny, nz, bvx, bvy, bvz,
+                               alpha, rx, ry, rz, vb, vp, lf, faces, nb, links, tris, roots,
+                               part_active, reach, thickness, friction, touch, cert_reach,
+                               stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
+                               stats):
                 _left_here(left, pos, i)
 
 
