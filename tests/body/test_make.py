@@ -11,7 +11,7 @@ from catwalk.body.commands import load_recipes
 from catwalk.body.make import make_body
 from catwalk.body.measure import measure_body
 from catwalk.errors import InputError
-from catwalk.export import gltf
+from catwalk.exchange import gltf
 
 RECIPES = {r["name"]: r for r in load_recipes()}
 CASES = ["female-XS", "female-M", "female-XXL", "male-XS", "male-M", "male-XXL"]

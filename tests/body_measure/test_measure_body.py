@@ -115,7 +115,7 @@ def test_girths_invariant_to_remesh_noise_units_axes(copy, bodies, body_faces,
                                                      quad_flipped_faces, measured, tmp_path):
     """Acceptance: measure() on a remeshed, noisy (±1 mm), millimetre, Z-up copy of a body
     gives the same girths within 1.5 cm."""
-    from catwalk.body.scan import load_scan
+    from catwalk.exchange.scan import load_scan
 
     v = bodies["female"]
     ref = measured["female"]
@@ -149,7 +149,7 @@ def test_girths_invariant_to_remesh_noise_units_axes(copy, bodies, body_faces,
 
 
 def test_male_invariant_too(bodies, quad_flipped_faces, measured, tmp_path):
-    from catwalk.body.scan import load_scan
+    from catwalk.exchange.scan import load_scan
 
     p = _retriangulated_noisy_mm_zup_stl(bodies["male"], quad_flipped_faces, tmp_path / "m.stl",
                                          seed=3)

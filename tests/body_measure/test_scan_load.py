@@ -5,7 +5,7 @@ import pytest
 import trimesh
 from scipy.spatial import cKDTree
 
-from catwalk.body.scan import load_scan
+from catwalk.exchange.scan import load_scan
 
 
 def _centred(v):

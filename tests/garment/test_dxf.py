@@ -2,9 +2,10 @@ import json
 
 import pytest
 
+from catwalk.exchange.dxf import read_dxf
+from catwalk.exchange.garment_json import load_garment
 from catwalk.garment.check import check_garment
-from catwalk.garment.dxf import read_dxf
-from catwalk.garment.model import cut_pieces, load_garment
+from catwalk.garment.model import cut_pieces
 
 from .dxf_fixtures import write_pattern, write_plain
 from .helpers import cli
@@ -190,9 +191,9 @@ def test_catalogue_garment_round_trips_through_dxf(tmp_path, capsys, style, unit
 def test_malformed_markup_raises_input_errors_only(tmp_path):
     import copy
 
+    from catwalk.exchange.dxf import pieces_to_garment
+    from catwalk.exchange.markup import apply_markup
     from catwalk.garment.check import check_garment
-    from catwalk.garment.dxf import pieces_to_garment
-    from catwalk.garment.markup import apply_markup
 
     from .helpers import BAD_VALUES, assert_only_input_errors
 

@@ -4,6 +4,12 @@ import numpy as np
 import pytest
 
 from catwalk.errors import InputError
+from catwalk.exchange.garment_json import (
+    garment_from_dict,
+    garment_to_dict,
+    load_garment,
+    save_garment,
+)
 from catwalk.garment.check import check_garment, require_valid
 from catwalk.garment.geometry import (
     Segment,
@@ -14,18 +20,7 @@ from catwalk.garment.geometry import (
     segment_lengths,
     transform_segments,
 )
-from catwalk.garment.model import (
-    Panel,
-    Placement,
-    Seam,
-    SeamSide,
-    Shape,
-    cut_pieces,
-    garment_from_dict,
-    garment_to_dict,
-    load_garment,
-    save_garment,
-)
+from catwalk.garment.model import Panel, Placement, Seam, SeamSide, Shape, cut_pieces
 
 from .helpers import assert_only_input_errors, cli, rect, tube
 

@@ -3,8 +3,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from catwalk.exchange.garmentcode import euler_xyz, load_garmentcode
 from catwalk.garment.check import check_garment
-from catwalk.garment.garmentcode import euler_xyz, load_garmentcode
 from catwalk.garment.model import cut_pieces
 
 ROOT = Path(__file__).resolve().parents[2]

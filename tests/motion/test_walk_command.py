@@ -7,7 +7,7 @@ import pytest
 from catwalk.body.types import Body
 from catwalk.cli import main
 
-gltf = pytest.importorskip("catwalk.export.gltf")
+gltf = pytest.importorskip("catwalk.exchange.gltf")
 
 
 @pytest.fixture(scope="module")

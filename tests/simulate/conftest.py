@@ -19,7 +19,7 @@ def male_body():
 
 @pytest.fixture(scope="session")
 def body_glb(dressable_body, tmp_path_factory):
-    from catwalk.export.gltf import write_glb
+    from catwalk.exchange.gltf import write_glb
 
     path = tmp_path_factory.mktemp("tryon") / "body.glb"
     write_glb(path, dressable_body)

@@ -5,7 +5,7 @@ default preset, is `catwalk bench dress` (docs/tryon.md)."""
 import numpy as np
 import pytest
 
-from catwalk.garment.model import load_garment
+from catwalk.exchange.garment_json import load_garment
 from catwalk.simulate import dress, preset
 from catwalk.simulate.metrics import BodySurface, penetration
 from catwalk.simulate.walking import strain_of

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from catwalk.cli import main
-from catwalk.garment.model import load_garment
+from catwalk.exchange.garment_json import load_garment
 from catwalk.simulate import Cancelled, dress, preset
 from catwalk.simulate.metrics import BodySurface, penetration
 
@@ -55,8 +55,8 @@ def test_dress_cancel(dressable_body, skirt):
 
 
 def test_tryon_cli_end_to_end(body_glb, tmp_path, repo_root, capsys):
-    from catwalk.export.garment import read_garments
-    from catwalk.export.gltf import read_body, read_motion, validate
+    from catwalk.exchange.gltf import read_body, read_motion, validate
+    from catwalk.exchange.tryon_glb import read_garments
     from catwalk.motion.skinning import body_frames
 
     out = tmp_path / "tryon.glb"
@@ -97,7 +97,7 @@ def test_tryon_interrupt_leaves_no_file(body_glb, tmp_path, repo_root, monkeypat
     import catwalk.simulate.commands as cmds
 
     class Stop(cmds.ProgressBar):
-        def __call__(self, stage, i, total):
+        def __call__(self, fraction, stage):
             if stage == "walking":
                 raise KeyboardInterrupt
 
@@ -133,12 +133,12 @@ def test_tryon_bad_arguments_exit_2(body_glb, tmp_path, repo_root, capsys, args,
 @pytest.mark.parametrize("flag", ["-o", "--metrics", "--iv", "--obj-dir"])
 def test_tryon_refuses_an_unwritable_output_before_simulating(body_glb, tmp_path, repo_root,
                                                               capsys, monkeypatch, flag):
-    import catwalk.simulate.pipeline as pipeline
+    import catwalk.simulate.tryon as entry
 
     def never(*a, **k):
         raise AssertionError("simulated before checking the outputs")
 
-    monkeypatch.setattr(pipeline, "run_tryon", never)
+    monkeypatch.setattr(entry, "tryon", never)
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
     out = {"-o": str(tmp_path / "t.glb")}
@@ -152,8 +152,8 @@ def test_tryon_refuses_an_unwritable_output_before_simulating(body_glb, tmp_path
 
 
 def test_dress_cli_writes_a_valid_static_glb(body_glb, tmp_path, repo_root, capsys):
-    from catwalk.export.garment import read_garments
-    from catwalk.export.gltf import validate
+    from catwalk.exchange.gltf import validate
+    from catwalk.exchange.tryon_glb import read_garments
 
     out = tmp_path / "dressed.glb"
     rc = main(["dress", "--body", str(body_glb), "--garment", str(repo_root / SKIRT),

@@ -25,7 +25,7 @@ from catwalk.bench import cpu_model
 from catwalk.cloth.fabrics import get_fabric
 from catwalk.cloth.scenes import paper_size_cloth
 from catwalk.cloth.solver import INTEGRATORS, METHODS, Solver, max_strain
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 BLOCK = 100
 
@@ -62,13 +62,13 @@ def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None,
         integrators=(), xpbd_dt=1e-3, xpbd_iterations=8) -> dict:
     fab = get_fabric(fabric)
     if steps < 1:
-        raise CatwalkError("--steps must be at least 1")
+        raise InputError("--steps must be at least 1")
     if settle < 0:
-        raise CatwalkError("--settle must be ≥ 0 seconds")
+        raise InputError("--settle must be ≥ 0 seconds")
     methods = list(METHODS) if methods is None else methods
     for name in integrators:
         if name not in INTEGRATORS:
-            raise CatwalkError(f"unknown integrator {name!r} (choose from "
+            raise InputError(f"unknown integrator {name!r} (choose from "
                                f"{', '.join(INTEGRATORS)})")
     model, state0 = paper_size_cloth(fab, h=h)
     out = {"points": model.n_points, "springs": model.n_springs, "methods": {}}
@@ -100,7 +100,7 @@ def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None,
 
 def main(args) -> int:
     if args.xpbd_iterations < 1 or not args.xpbd_dt > 0:
-        raise CatwalkError("--xpbd-dt must be > 0 and --xpbd-iterations ≥ 1")
+        raise InputError("--xpbd-dt must be > 0 and --xpbd-iterations ≥ 1")
     res, extra = run(args.fabric, args.h, args.steps, args.settle,
                      args.methods.split(",") if args.methods else None,
                      tuple(args.integrators.split(",")) if args.integrators else (),

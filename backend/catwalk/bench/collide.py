@@ -21,7 +21,7 @@ import numpy as np
 from catwalk.bench import cpu_model
 from catwalk.collide import MODES, Skips, make_collider
 from catwalk.collide.scenes import dress, makehuman_walk, mannequin_walk
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 from catwalk.render.raster import vertex_normals
 
 TARGET_MS = 2.0
@@ -44,7 +44,7 @@ def load_body(kind: str, frames: int, still: bool = False, first: int = 0, warmu
     elif kind == "mannequin":
         body = mannequin_walk(n_frames=n, t0=first / 30.0)
     else:
-        raise CatwalkError(f"unknown body {kind!r}: use makehuman or mannequin")
+        raise InputError(f"unknown body {kind!r}: use makehuman or mannequin")
     if still:
         body.vertices[:] = body.vertices[0]
         body.velocities[:] = 0.0
@@ -311,9 +311,9 @@ def figure10_figure(size=(360, 540)):
 
 def main(args) -> int:
     if args.frames < 1 or args.substeps < 1 or args.points < 1 or args.repeat < 1:
-        raise CatwalkError("--frames, --substeps, --points and --repeat must be >= 1")
+        raise InputError("--frames, --substeps, --points and --repeat must be >= 1")
     if args.map_size < 16 or args.map_size > 4096:
-        raise CatwalkError("--map-size must be 16..4096")
+        raise InputError("--map-size must be 16..4096")
     modes = MODES if args.mode == "all" else (args.mode,)
     if args.figure10_png:
         from catwalk.render.preview import save_png

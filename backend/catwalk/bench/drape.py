@@ -11,7 +11,7 @@ from pathlib import Path
 from catwalk.bench.cloth import machine
 from catwalk.cloth.drape import cusick_drape
 from catwalk.cloth.fabrics import PRESETS, get_fabric, load_petrak
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 
 def fabric_ids(only: str = "") -> list[str]:
@@ -25,7 +25,7 @@ def fabric_ids(only: str = "") -> list[str]:
 
 def main(args) -> int:
     if args.h <= 0:
-        raise CatwalkError("--h must be a positive number of metres")
+        raise InputError("--h must be a positive number of metres")
     out = {}
     rows = []
     for fid in fabric_ids(args.fabrics):

@@ -25,8 +25,8 @@ def run(garments=None, sizes=None, preset_name: str = "balanced", h: float | Non
 
     from catwalk.body.commands import sample_body
     from catwalk.errors import CatwalkError
+    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.catalogue import catalogue_files
-    from catwalk.garment.model import load_garment
     from catwalk.simulate import dress, preset
     from catwalk.simulate.metrics import BodySurface, penetration
     from catwalk.simulate.walking import strain_of
@@ -88,9 +88,9 @@ def _render(body, dressed, path: Path) -> str:
     import numpy as np
     from PIL import Image
 
-    from catwalk.export.scene import garment_vertex_colours
+    from catwalk.exchange.scene import garment_vertex_colours
     from catwalk.render.preview import render_meshes, save_png
-    from catwalk.simulate.pipeline import static_frames
+    from catwalk.simulate.tryon import static_frames
 
     frames = static_frames(dressed)
     images = [None if tex is None else

@@ -49,8 +49,8 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
     from catwalk.bench.collide import figure10_displacement
     from catwalk.body.rig import measured_base_body
     from catwalk.cloth.solver import ClothExplosionError
+    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.catalogue import catalogue_files
-    from catwalk.garment.model import load_garment
     from catwalk.motion.gait import walk_motion
     from catwalk.simulate import dress, preset
     from catwalk.simulate.walking import walk

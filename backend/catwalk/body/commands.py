@@ -9,12 +9,16 @@ from pathlib import Path
 
 from catwalk.errors import InputError
 
-RECIPES = Path(__file__).resolve().parents[3] / "bodies" / "recipes.json"
+
+def recipes_path() -> Path:
+    from catwalk.config import get_config
+
+    return get_config().bodies_dir / "recipes.json"
 
 
 def _make(args) -> int:
     from catwalk.body.make import make_body
-    from catwalk.export.gltf import write_glb
+    from catwalk.exchange.gltf import write_glb
 
     if not str(args.output).lower().endswith(".glb"):
         raise InputError(f"-o {args.output}: the body is written as a .glb file")
@@ -30,7 +34,8 @@ def _make(args) -> int:
     return 0
 
 
-def load_recipes(path: Path = RECIPES) -> list[dict]:
+def load_recipes(path: Path | None = None) -> list[dict]:
+    path = path or recipes_path()
     try:
         data = json.loads(Path(path).read_text())
         return list(data["bodies"])
@@ -42,15 +47,15 @@ def sample_body(name: str, out_dir: Path | None = None):
     """The sample body ``name`` (a recipe in bodies/recipes.json, e.g. ``female-M``), made once
     and kept in ``bodies/generated/`` (git-ignored) for the next call."""
     from catwalk.body.make import make_body
-    from catwalk.export.gltf import read_body, write_glb
+    from catwalk.exchange.gltf import read_body, write_glb
 
-    out = Path(out_dir) if out_dir is not None else RECIPES.parent / "generated"
+    out = Path(out_dir) if out_dir is not None else recipes_path().parent / "generated"
     path = out / f"{name}.glb"
     if path.is_file():
         return read_body(path)
     recipe = next((r for r in load_recipes() if r["name"] == name), None)
     if recipe is None:
-        raise InputError(f"no sample body named {name!r} in {RECIPES}")
+        raise InputError(f"no sample body named {name!r} in {recipes_path()}")
     body = make_body(sex=recipe["sex"], height=recipe["height"], bust=recipe.get("bust"),
                      waist=recipe.get("waist"), hips=recipe.get("hips"),
                      underbust=recipe.get("underbust"))
@@ -60,10 +65,11 @@ def sample_body(name: str, out_dir: Path | None = None):
 
 def _build(args) -> int:
     from catwalk.body.make import make_body
-    from catwalk.export.gltf import write_glb
+    from catwalk.exchange.gltf import write_glb
 
-    out = Path(args.out_dir)
-    recipes = load_recipes(Path(args.recipes))
+    recipes_file = Path(args.recipes) if args.recipes else recipes_path()
+    out = Path(args.out_dir) if args.out_dir else recipes_file.parent / "generated"
+    recipes = load_recipes(recipes_file)
     if args.only:
         recipes = [r for r in recipes if r["name"] in args.only]
         if not recipes:
@@ -98,7 +104,7 @@ def register(top, groups) -> None:
     bs = b.add_subparsers(dest="bodies_command", metavar="COMMAND")
     bs.required = True
     pb = bs.add_parser("build", help="regenerate the sample bodies from their recipes")
-    pb.add_argument("--recipes", default=str(RECIPES))
-    pb.add_argument("--out-dir", default=str(RECIPES.parent / "generated"))
+    pb.add_argument("--recipes", default=None, help="default: $CATWALK_BODIES_DIR/recipes.json")
+    pb.add_argument("--out-dir", default=None, help="default: generated/ beside the recipes")
     pb.add_argument("--only", nargs="*", help="recipe names to build (default: all)")
     pb.set_defaults(func=_build)

@@ -51,25 +51,25 @@ class BodyRequest:
 
     def check(self) -> None:
         if self.sex not in ("female", "male"):
-            raise InputError(f"--sex must be female or male, not {self.sex!r}")
+            raise InputError(f"sex must be female or male, not {self.sex!r}", "sex")
         for key, (lo, hi) in RANGES.items():
             val = getattr(self, key)
             if val is None:
                 continue
             if not np.isfinite(val) or not lo <= val <= hi:
                 raise InputError(
-                    f"--{key} {val:g} m is outside the adult range this body model covers "
-                    f"({lo:g}–{hi:g} m); measurements are in metres")
+                    f"{key} {val:g} m is outside the adult range this body model covers "
+                    f"({lo:g}–{hi:g} m); measurements are in metres", key)
         if self.underbust is not None and self.sex != "female":
-            raise InputError("--underbust applies to female bodies only")
+            raise InputError("underbust applies to female bodies only", "underbust")
         if self.bust and self.waist and self.waist > self.bust + 0.12:
             raise InputError(f"waist {self.waist:g} m is more than 12 cm above bust "
-                             f"{self.bust:g} m: not a body this model can make")
+                             f"{self.bust:g} m: not a body this model can make", "waist")
         if self.hips and self.waist and self.waist > self.hips + 0.10:
             raise InputError(f"waist {self.waist:g} m is more than 10 cm above hips "
-                             f"{self.hips:g} m: not a body this model can make")
+                             f"{self.hips:g} m: not a body this model can make", "waist")
         if self.underbust and self.bust and not (0.0 <= self.bust - self.underbust <= 0.30):
-            raise InputError("bust minus underbust must be between 0 and 30 cm")
+            raise InputError("bust minus underbust must be between 0 and 30 cm", "underbust")
 
 
 # What the girth fit may move, per girth: MakeHuman's own measurement modifier first (cheap in

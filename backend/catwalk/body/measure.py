@@ -1,7 +1,7 @@
 """Body measurements and landmarks from the surface alone (no rig), for any body or scan.
 
 Input: a triangle mesh in glTF metres (+Y up, the body faces +Z, body's left = +X), as
-:func:`catwalk.body.scan.load_scan` returns it. Everything is derived from planar sections of
+:func:`catwalk.exchange.scan.load_scan` returns it. Everything is derived from planar sections of
 the surface: a section is split into connected loops (through the mesh's edge connectivity),
 and a girth is the perimeter of the convex hull of the torso's loop (a tape measure bridges
 hollows), as ISO 8559-1 defines girths. The definitions are in ``docs/bodies-measure.md``.

@@ -31,7 +31,7 @@ from catwalk.body.types import (
     PART_TORSO,
     Skeleton,
 )
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 RIGS = ("game_engine", "default", "default_no_toes", "cmu_mb")
 
@@ -46,7 +46,7 @@ _LEG_ROOTS = ("thigh", "calf", "foot", "ball")
 @lru_cache(maxsize=8)
 def load_rig(rig: str = "game_engine") -> dict:
     if rig not in RIGS:
-        raise CatwalkError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
+        raise InputError(f"unknown rig {rig!r}; choose one of {', '.join(RIGS)}")
     return load_json(f"rigs/standard/rig.{rig}.json")
 
 
@@ -84,7 +84,7 @@ def _point(spec: dict, verts: np.ndarray) -> np.ndarray:
         return verts[int(spec["vertex_index"])]
     if strategy == "MEAN":
         return verts[np.asarray(spec["vertex_indices"], dtype=np.int64)].mean(axis=0)
-    raise CatwalkError(f"rig: unsupported joint strategy {strategy!r}")
+    raise InputError(f"rig: unsupported joint strategy {strategy!r}")
 
 
 def joint_positions(full_vertices: np.ndarray, rig: str = "game_engine"):
@@ -145,7 +145,7 @@ def build_skeleton(full_vertices_m: np.ndarray, rig: str = "game_engine") -> Ske
         hb = GLTF_TO_BLENDER @ heads[j]
         tb = GLTF_TO_BLENDER @ tails[j]
         if np.linalg.norm(tb - hb) < 1e-9:
-            raise CatwalkError(f"rig: bone {n!r} has zero length on this body")
+            raise InputError(f"rig: bone {n!r} has zero length on this body")
         rot_b = vec_roll_to_mat3(tb - hb, float(data[n].get("roll", 0.0)))
         world[j, :3, :3] = BLENDER_TO_GLTF @ rot_b
         world[j, :3, 3] = heads[j]
@@ -181,7 +181,7 @@ def skin_weights(names: list[str], rig: str = "game_engine",
         keep = vid < n_vertices
         np.add.at(dense[:, index[bone]], vid[keep], arr[keep, 1])
     if np.any(dense.sum(axis=1) <= 0):
-        raise CatwalkError(f"rig {rig!r}: some body vertices carry no skin weight")
+        raise InputError(f"rig {rig!r}: some body vertices carry no skin weight")
     bone_part = np.array([part_of_bone(n) for n in names])
     part_sum = np.zeros((n_vertices, 5))
     for p in range(5):
@@ -204,7 +204,7 @@ def build_rig(full_vertices_m: np.ndarray, rig: str = "game_engine"):
     v = np.asarray(full_vertices_m, dtype=np.float64)
     n_full = load_base_mesh().vertices.shape[0]
     if v.shape != (n_full, 3):
-        raise CatwalkError(f"build_rig needs the full {n_full}-vertex mesh, got {v.shape}")
+        raise InputError(f"build_rig needs the full {n_full}-vertex mesh, got {v.shape}")
     skeleton = build_skeleton(v, rig)
     joints, weights, parts = skin_weights(skeleton.names, rig)
     return skeleton, joints, weights, parts

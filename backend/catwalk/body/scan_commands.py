@@ -36,7 +36,7 @@ def dumps(obj, indent: int = 0) -> str:
 
 
 def _info(args) -> int:
-    from catwalk.body.scan import load_scan
+    from catwalk.exchange.scan import load_scan
 
     scan = load_scan(args.file)
     print(dumps(scan.info()))
@@ -45,7 +45,7 @@ def _info(args) -> int:
 
 def _measure(args) -> int:
     from catwalk.body.measure import measure_body
-    from catwalk.body.scan import load_scan
+    from catwalk.exchange.scan import load_scan
 
     scan = load_scan(args.file)
     try:

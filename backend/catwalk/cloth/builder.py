@@ -49,7 +49,7 @@ from scipy.spatial import Delaunay
 
 from catwalk.cloth.fabrics import Fabric, get_fabric, spring_constants
 from catwalk.cloth.model import BEND, SHEAR, STRETCH, ClothModel
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 DEFAULT_H = 0.015
 MAX_POINTS = 400_000
@@ -165,12 +165,12 @@ def _place(panel: Panel, uv: np.ndarray, index: int) -> np.ndarray:
     if callable(pl):
         out = np.asarray(pl(uv), dtype=np.float64)
         if out.shape != (len(uv), 3) or not np.all(np.isfinite(out)):
-            raise CatwalkError(f"panel {index}: placement callable must return finite "
+            raise InputError(f"panel {index}: placement callable must return finite "
                                f"({len(uv)}, 3) positions")
         return out
     m = np.asarray(pl, dtype=np.float64)
     if m.shape != (3, 4) or not np.all(np.isfinite(m)):
-        raise CatwalkError(f"panel {index}: placement must be a finite (3, 4) matrix, a callable "
+        raise InputError(f"panel {index}: placement must be a finite (3, 4) matrix, a callable "
                            "or None")
     return uv @ m[:, :2].T + m[:, 3]
 
@@ -179,21 +179,21 @@ def _place(panel: Panel, uv: np.ndarray, index: int) -> np.ndarray:
 
 def _check_panels(panels: Sequence[Panel]) -> list[np.ndarray]:
     if not panels:
-        raise CatwalkError("no panels to build a cloth from")
+        raise InputError("no panels to build a cloth from")
     outlines = []
     for i, p in enumerate(panels):
         if not isinstance(p, Panel):
-            raise CatwalkError(f"panel {i}: expected a Panel, got {type(p).__name__}")
+            raise InputError(f"panel {i}: expected a Panel, got {type(p).__name__}")
         o = np.asarray(p.outline, dtype=np.float64)
         if o.ndim != 2 or o.shape[1] != 2 or len(o) < 3:
-            raise CatwalkError(f"panel {i} ({p.name}): outline must be (N ≥ 3, 2) metres, "
+            raise InputError(f"panel {i} ({p.name}): outline must be (N ≥ 3, 2) metres, "
                                f"got shape {o.shape}")
         if not np.all(np.isfinite(o)):
-            raise CatwalkError(f"panel {i} ({p.name}): outline has non-finite coordinates")
+            raise InputError(f"panel {i} ({p.name}): outline has non-finite coordinates")
         if np.allclose(o[0], o[-1]):
             o = o[:-1]
         if abs(_polygon_area(o)) < 1e-8:
-            raise CatwalkError(f"panel {i} ({p.name}): outline encloses no area")
+            raise InputError(f"panel {i} ({p.name}): outline encloses no area")
         outlines.append(o)
     return outlines
 
@@ -203,17 +203,17 @@ def _seam_runs(seams, outlines):
     runs = []  # (panel, start, end, seam index, side)
     for si, s in enumerate(seams):
         if not isinstance(s, Seam):
-            raise CatwalkError(f"seam {si}: expected a Seam, got {type(s).__name__}")
+            raise InputError(f"seam {si}: expected a Seam, got {type(s).__name__}")
         for side, (p, a, b) in enumerate(((s.panel_a, s.start_a, s.end_a),
                                           (s.panel_b, s.start_b, s.end_b))):
             if not (0 <= p < len(outlines)):
-                raise CatwalkError(f"seam {si}: panel {p} does not exist")
+                raise InputError(f"seam {si}: panel {p} does not exist")
             n = len(outlines[p])
             if not (0 <= a < n and 0 <= b < n):
-                raise CatwalkError(f"seam {si}: outline index out of range for panel {p} "
+                raise InputError(f"seam {si}: outline index out of range for panel {p} "
                                    f"({a}, {b}; the outline has {n} vertices)")
             if a == b:
-                raise CatwalkError(f"seam {si}: a seam run needs two different vertices")
+                raise InputError(f"seam {si}: a seam run needs two different vertices")
             runs.append((p, a, b, si, side))
     return runs
 
@@ -223,11 +223,11 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     """Build a cloth from panels and seams (see the module docstring)."""
     fab: Fabric = get_fabric(fabric)
     if not (isinstance(h, (int, float)) and math.isfinite(h) and h > 0):
-        raise CatwalkError(f"grid spacing h must be a positive number of metres, got {h!r}")
+        raise InputError(f"grid spacing h must be a positive number of metres, got {h!r}")
     outlines = _check_panels(panels)
     total_area = sum(abs(_polygon_area(o)) for o in outlines)
     if total_area / (h * h) > MAX_POINTS:
-        raise CatwalkError(f"h = {h} m would make ~{int(total_area / h / h)} points "
+        raise InputError(f"h = {h} m would make ~{int(total_area / h / h)} points "
                            f"(limit {MAX_POINTS}); use a larger h")
     runs = _seam_runs(seams, outlines)
     # shared interval counts per seam
@@ -239,7 +239,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
               for si in range(len(seams))}
     for si in range(len(seams)):
         if min(lengths[(si, 0)], lengths[(si, 1)]) <= 0:
-            raise CatwalkError(f"seam {si}: a seam run has zero length")
+            raise InputError(f"seam {si}: a seam run has zero length")
 
     uv_all, pan_all, bnd_all = [], [], []
     grid_ij_all = []  # per panel: (point index, i, j) for grid points
@@ -255,7 +255,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
             k = a
             while k != b:
                 if owner[k] >= 0:
-                    raise CatwalkError(f"panel {pi}: seam runs overlap at outline edge {k}")
+                    raise InputError(f"panel {pi}: seam runs overlap at outline edge {k}")
                 owner[k] = ri
                 k = (k + 1) % n
         # walk the outline from a run start (or vertex 0)
@@ -311,7 +311,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
         used = np.zeros(len(panel_uv), dtype=bool)
         used[tri.ravel()] = True
         if not used[:nb].all():
-            raise CatwalkError(f"panel {pi} ({panels[pi].name}): outline too fine for h = {h} "
+            raise InputError(f"panel {pi} ({panels[pi].name}): outline too fine for h = {h} "
                                "(an outline point is in no triangle); smooth the outline or "
                                "use a smaller h")
         uv_all.append(panel_uv)
@@ -422,7 +422,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     d2 = uv[sb] - uv[sa]
     rest = np.linalg.norm(d2, axis=1)
     if np.any(rest < 1e-9):
-        raise CatwalkError("two cloth points coincide in the pattern; check the outlines")
+        raise InputError("two cloth points coincide in the pattern; check the outlines")
     k = spring_constants(fab, kind, d2, rest, h)
 
     # --- masses ---

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 #: κ₀ (1/m): the curvature at which a bend spring's energy matches the continuum ½Bκ²
 #: (a fold of 4 cm radius, typical of the drape test and garment folds).
@@ -69,17 +69,17 @@ class Fabric:
                       "bend_weft"):
             val = getattr(self, field)
             if not (np.isfinite(val) and val > 0):
-                raise CatwalkError(f"fabric {self.id!r}: {field} must be a positive number, "
+                raise InputError(f"fabric {self.id!r}: {field} must be a positive number, "
                                    f"got {val!r}")
         for field in ("damping", "air", "friction"):
             val = getattr(self, field)
             if not (np.isfinite(val) and val >= 0):
-                raise CatwalkError(f"fabric {self.id!r}: {field} must be ≥ 0, got {val!r}")
+                raise InputError(f"fabric {self.id!r}: {field} must be ≥ 0, got {val!r}")
         if not (0.0 <= self.compression <= 1.0):
-            raise CatwalkError(f"fabric {self.id!r}: compression must be in [0, 1], "
+            raise InputError(f"fabric {self.id!r}: compression must be in [0, 1], "
                                f"got {self.compression!r}")
         if not (0.0 < self.tau < 1.0):
-            raise CatwalkError(f"fabric {self.id!r}: strain limit tau must be in (0, 1), "
+            raise InputError(f"fabric {self.id!r}: strain limit tau must be in (0, 1), "
                                f"got {self.tau!r}")
         return self
 
@@ -186,8 +186,9 @@ _PETRAK_ROWS = [
 
 
 def _petrak_path() -> Path | None:
-    here = Path(__file__).resolve()
-    for base in here.parents:
+    from catwalk.config import REPO_DIR
+
+    for base in (REPO_DIR, *REPO_DIR.parents):
         for cand in (base / "shared" / "data" / "fabrics" / "petrak2025-woven.json",
                      base.parent / "shared" / "data" / "fabrics" / "petrak2025-woven.json"):
             if cand.is_file():
@@ -202,11 +203,11 @@ def load_petrak(path: str | Path | None = None) -> dict[str, Fabric]:
         rows, p = _PETRAK_ROWS, "built-in copy of petrak2025-woven.json"
     else:
         if not p.is_file():
-            raise CatwalkError(f"{p}: no such fabric table")
+            raise InputError(f"{p}: no such fabric table")
         try:
             rows = json.loads(p.read_text())["fabrics"]
         except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise CatwalkError(f"{p}: not a fabric table ({exc})") from None
+            raise InputError(f"{p}: not a fabric table ({exc})") from None
     out = {}
     for r in rows:
         try:
@@ -216,7 +217,7 @@ def load_petrak(path: str | Path | None = None) -> dict[str, Fabric]:
                        bend_warp=float(r["bending_warp"]), bend_weft=float(r["bending_weft"]),
                        tau=0.05, source=PETRAK_SOURCE)
         except (KeyError, TypeError, ValueError) as exc:
-            raise CatwalkError(f"{p}: bad fabric row {r!r} ({exc})") from None
+            raise InputError(f"{p}: bad fabric row {r!r} ({exc})") from None
         out[f.id] = f.validate()
     return out
 
@@ -232,4 +233,4 @@ def get_fabric(name: str | Fabric) -> Fabric:
         if name in table:
             return table[name]
     known = ", ".join(list(PRESETS) + ["m1…m6"])
-    raise CatwalkError(f"unknown fabric {name!r} (known: {known})")
+    raise InputError(f"unknown fabric {name!r} (known: {known})")

@@ -26,7 +26,7 @@ point) this gives ``dt_stable`` (= √2/π·T₀ ≈ 0.45·T₀ without damping)
 ``allow_unstable=True``, for tests).
 
 **Failure.** Non-finite values or a speed above ``max_speed`` raise :class:`ClothExplosionError`
-(a :class:`~catwalk.errors.CatwalkError`) naming the step and point; the state is marked
+(a :class:`~catwalk.errors.SimulationError`) naming the step and point; the state is marked
 ``failed`` and refused afterwards.
 
 ``Solver(model, method, integrator="xpbd")`` swaps steps 1–4 for XPBD, an alternative kept for
@@ -42,7 +42,7 @@ import numpy as np
 
 from catwalk.cloth import kernels as K
 from catwalk.cloth.model import PLANE_COLUMNS, ClothModel, State
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError, SimulationError
 
 METHODS = {"none": K.METHOD_NONE, "ordered": K.METHOD_ORDERED, "vassilev": K.METHOD_VASSILEV,
            "provot": K.METHOD_PROVOT}
@@ -54,7 +54,7 @@ _NO_PLANE_IDX = np.zeros(0, dtype=np.int64)
 _NO_PLANES = np.zeros((0, PLANE_COLUMNS))
 
 
-class ClothExplosionError(CatwalkError):
+class ClothExplosionError(SimulationError):
     """The simulation produced non-finite values or an absurd speed."""
 
 
@@ -72,13 +72,13 @@ def _held_mask(held, n: int) -> np.ndarray:
     h = np.asarray(held)
     if h.dtype == bool:
         if h.shape != (n,):
-            raise CatwalkError(f"collider returned a held mask of shape {h.shape}, need ({n},)")
+            raise InputError(f"collider returned a held mask of shape {h.shape}, need ({n},)")
         return h
     mask = np.zeros(n, dtype=bool)
     if h.size:
         idx = h.astype(np.int64).ravel()
         if idx.min() < 0 or idx.max() >= n:
-            raise CatwalkError("collider returned held indices out of range")
+            raise InputError("collider returned held indices out of range")
         mask[idx] = True
     return mask
 
@@ -137,19 +137,19 @@ class Solver:
                  integrator: str = "explicit", xpbd_dt: float = 1e-3,
                  xpbd_iterations: int = 8, order_tolerance: float = 0.0):
         if integrator not in INTEGRATORS:
-            raise CatwalkError(f"unknown integrator {integrator!r} "
+            raise InputError(f"unknown integrator {integrator!r} "
                                f"(choose from {', '.join(INTEGRATORS)})")
         if integrator == "xpbd" and not (math.isfinite(xpbd_dt) and xpbd_dt > 0
                                          and int(xpbd_iterations) >= 1):
-            raise CatwalkError("xpbd needs xpbd_dt > 0 s and xpbd_iterations ≥ 1")
+            raise InputError("xpbd needs xpbd_dt > 0 s and xpbd_iterations ≥ 1")
         self.integrator = integrator
         self.xpbd_dt = float(xpbd_dt)
         self.xpbd_iterations = int(xpbd_iterations)
         if method not in METHODS:
-            raise CatwalkError(f"unknown strain-limit method {method!r} "
+            raise InputError(f"unknown strain-limit method {method!r} "
                                f"(choose from {', '.join(METHODS)})")
         if not (0.0 < safety <= 1.0):
-            raise CatwalkError(f"safety factor must be in (0, 1], got {safety}")
+            raise InputError(f"safety factor must be in (0, 1], got {safety}")
         self.method = method
         self.gravity = np.asarray(gravity, dtype=np.float64).reshape(3)
         self.safety = float(safety)
@@ -285,11 +285,11 @@ class Solver:
                                       "start from a good state")
         n = model.n_points
         if state.positions.shape != (n, 3) or state.velocities.shape != (n, 3):
-            raise CatwalkError(f"state does not match the model ({n} points)")
+            raise InputError(f"state does not match the model ({n} points)")
         if dt is None:
             dt = self.dt_max
         if not (math.isfinite(dt) and dt > 0):
-            raise CatwalkError(f"time step must be a positive number of seconds, got {dt!r}")
+            raise InputError(f"time step must be a positive number of seconds, got {dt!r}")
         nsub = 1 if self.allow_unstable else max(1, math.ceil(dt / self.dt_max - 1e-9))
         h = dt / nsub
         rebuilt = self._update_order(state)

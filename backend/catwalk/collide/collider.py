@@ -12,7 +12,7 @@ from catwalk.cloth.model import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
 from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 from catwalk.render.raster import (
     incident_faces,
     ortho_view,
@@ -182,26 +182,26 @@ class Collider:
                  map_region_pad=0.05, edge_fallback=True, limb_fallback=True,
                  second_surface=True, skips: Skips | None = None):
         if mode not in MODES:
-            raise CatwalkError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
+            raise InputError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
         faces = np.asarray(body_faces)
         if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
-            raise CatwalkError(f"body faces must be a non-empty (M, 3) array, got {faces.shape}")
+            raise InputError(f"body faces must be a non-empty (M, 3) array, got {faces.shape}")
         parts = np.asarray(parts)
         if parts.ndim != 1 or (faces.max() >= len(parts)) or faces.min() < 0:
-            raise CatwalkError("parts must give one label per body vertex, covering the faces")
+            raise InputError("parts must give one label per body vertex, covering the faces")
         if parts.min() < 0 or parts.max() >= N_PARTS:
-            raise CatwalkError("part labels must be 0 (torso+head) … 4 (right leg)")
+            raise InputError("part labels must be 0 (torso+head) … 4 (right leg)")
         for name, val in (("thickness", thickness), ("search_radius", search_radius),
                           ("max_depth", max_depth)):
             if not (np.isfinite(val) and val > 0):
-                raise CatwalkError(f"{name} must be a positive length in metres, got {val!r}")
+                raise InputError(f"{name} must be a positive length in metres, got {val!r}")
         if not (np.isfinite(edge_normal_z) and 0.0 <= edge_normal_z <= 1.0):
-            raise CatwalkError(f"edge_normal_z must be within 0..1, got {edge_normal_z!r}")
+            raise InputError(f"edge_normal_z must be within 0..1, got {edge_normal_z!r}")
         if not (np.isfinite(friction) and friction >= 0):
-            raise CatwalkError(f"friction must be >= 0, got {friction!r}")
+            raise InputError(f"friction must be >= 0, got {friction!r}")
         ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
         if len(ms) != 2 or min(ms) < 8 or max(ms) > 8192:
-            raise CatwalkError(f"map size must be 8..8192 pixels, got {map_size!r}")
+            raise InputError(f"map size must be 8..8192 pixels, got {map_size!r}")
         self.mode = mode
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self._faces32 = self.faces.astype(np.int32)
@@ -299,17 +299,17 @@ class Collider:
         as many as the previous frame had; 1 on the first frame)."""
         v = np.asarray(body_vertices, dtype=np.float64)
         if v.shape != (self.n_vertices, 3):
-            raise CatwalkError(f"body vertices must be ({self.n_vertices}, 3), got {v.shape}")
+            raise InputError(f"body vertices must be ({self.n_vertices}, 3), got {v.shape}")
         if not np.all(np.isfinite(v)):
-            raise CatwalkError("body vertices contain non-finite values")
+            raise InputError("body vertices contain non-finite values")
         if body_velocities is None:
             w = np.zeros_like(v)
         else:
             w = np.asarray(body_velocities, dtype=np.float64)
             if w.shape != v.shape or not np.all(np.isfinite(w)):
-                raise CatwalkError(f"body velocities must be finite ({self.n_vertices}, 3)")
+                raise InputError(f"body velocities must be finite ({self.n_vertices}, 3)")
         if substeps is not None and int(substeps) < 1:
-            raise CatwalkError(f"substeps must be >= 1, got {substeps}")
+            raise InputError(f"substeps must be >= 1, got {substeps}")
         first = self.v1 is None
         if first:
             self._first_v = v.copy()   # the pose the sharp vertices are found in
@@ -480,17 +480,17 @@ class Collider:
         body frame (default: from the substep count, see :meth:`update`). Afterwards
         :attr:`planes` holds each held point's contact plane (zero normal for the others)."""
         if self.v1 is None:
-            raise CatwalkError("collider.update(body) must be called before resolve()")
+            raise InputError("collider.update(body) must be called before resolve()")
         pos, vel, prev = positions, velocities, previous_positions
         for name, a in (("positions", pos), ("velocities", vel)):
             if not (isinstance(a, np.ndarray) and a.dtype == np.float64 and a.ndim == 2 and
                     a.shape[1] == 3 and a.flags.c_contiguous and a.flags.writeable):
-                raise CatwalkError(f"{name} must be a writable C-contiguous float64 (P, 3) array")
+                raise InputError(f"{name} must be a writable C-contiguous float64 (P, 3) array")
         if vel.shape != pos.shape:
-            raise CatwalkError("positions and velocities differ in shape")
+            raise InputError("positions and velocities differ in shape")
         prev = np.ascontiguousarray(prev, dtype=np.float64)
         if prev.shape != pos.shape:
-            raise CatwalkError("previous positions differ in shape from positions")
+            raise InputError("previous positions differ in shape from positions")
         n = len(pos)
         if alpha is None:
             # only the counted calls count: an explicit alpha (the walk's end-of-frame
@@ -499,7 +499,7 @@ class Collider:
             alpha = 1.0 if not self._substeps else min(self._calls / self._substeps, 1.0)
         alpha = float(alpha)
         if not 0.0 <= alpha <= 1.0:
-            raise CatwalkError(f"alpha must be in [0, 1], got {alpha}")
+            raise InputError(f"alpha must be in [0, 1], got {alpha}")
         alpha_prev = min(self._alpha_last, alpha)
         self._alpha_last = alpha
         self.timings.substeps += 1
@@ -666,11 +666,11 @@ class Collider:
         ``triangles`` (T, 3) over them; ``moved`` (P,) bool, if given: set True for the points
         moved. Returns the number of pushes."""
         if self.v1 is None:
-            raise CatwalkError("collider.update(body) must be called before push_off_sharp()")
+            raise InputError("collider.update(body) must be called before push_off_sharp()")
         x = positions
         if not (isinstance(x, np.ndarray) and x.dtype == np.float64 and x.ndim == 2 and
                 x.shape[1] == 3 and x.flags.c_contiguous and x.flags.writeable):
-            raise CatwalkError("positions must be a writable C-contiguous float64 (P, 3) array")
+            raise InputError("positions must be a writable C-contiguous float64 (P, 3) array")
         if len(x) == 0 or len(triangles) == 0:
             return 0
         if triangles is not self._sharp_src or len(x) != self._sharp_n:
@@ -679,7 +679,7 @@ class Collider:
             # model's triangles are never changed in place)
             tris = np.ascontiguousarray(triangles, dtype=np.int64)
             if tris.ndim != 2 or tris.shape[1] != 3 or tris.min() < 0 or tris.max() >= len(x):
-                raise CatwalkError("cloth triangles must be (T, 3) indices of the positions")
+                raise InputError("cloth triangles must be (T, 3) indices of the positions")
             key = (hashlib.blake2b(tris.tobytes(), digest_size=16).digest(), len(x))
             if self._sharp_csr_key != key:
                 self._sharp_csr = incident_faces(tris, len(x))
@@ -690,7 +690,7 @@ class Collider:
             moved = np.zeros(0, bool)
         elif not (isinstance(moved, np.ndarray) and moved.dtype == bool
                   and moved.shape == (len(x),)):
-            raise CatwalkError("moved must be a (P,) bool array")
+            raise InputError("moved must be a (P,) bool array")
         self._ensure_normals()
         if self._sharp is None:
             self._sharp = self._sharp_vertices()

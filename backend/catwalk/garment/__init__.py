@@ -4,8 +4,8 @@
   placement hints), JSON read/write, :func:`cut_pieces` for the cloth builder;
 - :mod:`~catwalk.garment.geometry`: line / Bézier / arc outlines, flattening, edits;
 - :mod:`~catwalk.garment.check`: ``catwalk garment check``;
-- :mod:`~catwalk.garment.dxf`, :mod:`~catwalk.garment.markup`: AAMA/ASTM and plain DXF import;
-- :mod:`~catwalk.garment.garmentcode`, :mod:`~catwalk.garment.freesewing`: pattern importers;
+- :mod:`~catwalk.exchange.dxf`, :mod:`~catwalk.exchange.markup`: AAMA/ASTM and plain DXF import;
+- :mod:`~catwalk.exchange.garmentcode`, :mod:`~catwalk.exchange.freesewing`: pattern importers;
 - :mod:`~catwalk.garment.catalogue`: how ``garments/`` is built;
 - :mod:`~catwalk.garment.place`: panels placed round a body from its landmarks.
 

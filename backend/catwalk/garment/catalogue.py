@@ -20,10 +20,16 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
+from catwalk.exchange.garment_json import save_garment
 from catwalk.garment.check import require_valid
-from catwalk.garment.model import Garment, save_garment
+from catwalk.garment.model import Garment
 
-ROOT = Path(__file__).resolve().parents[3] / "garments"
+
+def catalogue_dir() -> Path:
+    """The catalogue's folder (``$CATWALK_CATALOGUE_DIR``, by default the repo's garments/)."""
+    from catwalk.config import get_config
+
+    return get_config().catalogue_dir
 
 # bust girths of bodies/recipes.json (female S/M/L), for grading GarmentCode's M by scaling
 BUST = {"S": 0.90, "M": 0.98, "L": 1.06}
@@ -98,11 +104,11 @@ def grade_by_scaling(g: Garment, base: str, factors: dict[str, float]) -> Garmen
 
 
 def build_catalogue(root: str | Path | None = None, only: list[str] | None = None) -> list[str]:
-    from catwalk.garment.freesewing import load_freesewing
-    from catwalk.garment.garmentcode import load_garmentcode
-    from catwalk.garment.markup import apply_markup, load_markup
+    from catwalk.exchange.freesewing import load_freesewing
+    from catwalk.exchange.garmentcode import load_garmentcode
+    from catwalk.exchange.markup import apply_markup, load_markup
 
-    root = Path(root) if root else ROOT
+    root = Path(root) if root else catalogue_dir()
     if not root.is_dir():
         raise InputError(f"{root}: no garments folder")
     lines = [f"textures: {', '.join(write_textures(root))}"]
@@ -151,6 +157,6 @@ def build_catalogue(root: str | Path | None = None, only: list[str] | None = Non
 
 
 def catalogue_files(root: str | Path | None = None) -> list[Path]:
-    root = Path(root) if root else ROOT
+    root = Path(root) if root else catalogue_dir()
     return sorted(p for p in root.glob("*.json") if json.loads(p.read_text()).get("format")
                   == "catwalk-garment")

@@ -23,8 +23,8 @@ from catwalk.errors import InputError
 
 
 def _check(args) -> int:
+    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.check import check_garment
-    from catwalk.garment.model import load_garment
 
     g = load_garment(args.file)
     rep = check_garment(g)
@@ -43,8 +43,8 @@ def _check(args) -> int:
 
 
 def _write(g, out: str, strict: bool) -> None:
+    from catwalk.exchange.garment_json import save_garment
     from catwalk.garment.check import check_garment, require_valid
-    from catwalk.garment.model import save_garment
 
     if strict:
         require_valid(g, Path(out).parent)
@@ -61,8 +61,8 @@ def _write(g, out: str, strict: bool) -> None:
 
 
 def _import(args) -> int:
-    from catwalk.garment.dxf import pieces_to_garment, read_dxf
-    from catwalk.garment.markup import apply_markup, load_markup
+    from catwalk.exchange.dxf import pieces_to_garment, read_dxf
+    from catwalk.exchange.markup import apply_markup, load_markup
 
     if not args.output.lower().endswith(".json"):
         raise InputError(f"-o {args.output}: the garment is written as a .json file")
@@ -88,8 +88,8 @@ def _import(args) -> int:
 
 
 def _from_garmentcode(args) -> int:
-    from catwalk.garment.garmentcode import load_garmentcode
-    from catwalk.garment.markup import apply_markup, load_markup
+    from catwalk.exchange.garmentcode import load_garmentcode
+    from catwalk.exchange.markup import apply_markup, load_markup
 
     if not args.output.lower().endswith(".json"):
         raise InputError(f"-o {args.output}: the garment is written as a .json file")
@@ -102,8 +102,8 @@ def _from_garmentcode(args) -> int:
 
 
 def _from_freesewing(args) -> int:
-    from catwalk.garment.freesewing import describe, load_freesewing
-    from catwalk.garment.markup import apply_markup, load_markup
+    from catwalk.exchange.freesewing import describe, load_freesewing
+    from catwalk.exchange.markup import apply_markup, load_markup
 
     g = load_freesewing(args.file)
     if args.describe:
@@ -120,8 +120,8 @@ def _from_freesewing(args) -> int:
 
 
 def _edit(args) -> int:
+    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.edit import edit
-    from catwalk.garment.model import load_garment
 
     if not args.output.lower().endswith(".json"):
         raise InputError(f"-o {args.output}: the garment is written as a .json file")
@@ -143,9 +143,12 @@ def _catalogue(args) -> int:
 
 
 def _freesewing_lengths(args) -> int:
+    from catwalk.exchange.freesewing import BODY_LENGTHS, freesewing_lengths
     from catwalk.fileio import atomic_path, check_writable
-    from catwalk.garment.freesewing import BODY_LENGTHS, freesewing_lengths
+    from catwalk.garment.catalogue import catalogue_dir
 
+    if args.output is None:
+        args.output = str(catalogue_dir() / "freesewing" / "lengths.json")
     if args.output != "-":   # before measuring a dozen bodies: can it be written at all?
         check_writable(args.output, "-o")
     data = {"about": "Lengths and girths (mm) of catwalk's sample bodies (bodies/recipes.json) "
@@ -168,8 +171,8 @@ def _freesewing_lengths(args) -> int:
 
 
 def _export_dxf(args) -> int:
-    from catwalk.garment.dxf import write_dxf
-    from catwalk.garment.model import load_garment
+    from catwalk.exchange.dxf import write_dxf
+    from catwalk.exchange.garment_json import load_garment
 
     if not args.output.lower().endswith(".dxf"):
         raise InputError(f"-o {args.output}: the pattern is written as a .dxf file")
@@ -180,8 +183,8 @@ def _export_dxf(args) -> int:
 
 
 def _info(args) -> int:
+    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.check import check_garment
-    from catwalk.garment.model import load_garment
 
     g = load_garment(args.file)
     rep = check_garment(g)
@@ -277,8 +280,7 @@ def register(top, groups) -> None:
 
     p = sub.add_parser("freesewing-lengths",
                        help="the sample bodies' lengths (mm) that the FreeSewing drafts use")
-    p.add_argument("-o", "--output", default=str(Path(__file__).resolve().parents[3] / "garments"
-                                                 / "freesewing" / "lengths.json"),
+    p.add_argument("-o", "--output", default=None,
                    help="where to write them (default garments/freesewing/lengths.json; - for "
                         "stdout)")
     p.set_defaults(func=_freesewing_lengths)

@@ -59,7 +59,7 @@ def edit(g: Garment, panel: str, *, move=None, rotate: float | None = None,
         raise InputError(f"panel {panel!r} is a copy of {p.copy_of!r}: edit {p.copy_of!r}")
     if mirror is not None:
         if mirror not in ("x", "y"):
-            raise InputError(f"--mirror {mirror!r}: use x (left ↔ right) or y (up ↔ down)")
+            raise InputError(f"mirror {mirror!r}: use x (left ↔ right) or y (up ↔ down)")
         c = _centre(p)
         transform_panel(g, panel, mirror_matrix(mirror, c[0] if mirror == "x" else c[1]))
     if rotate:
@@ -68,7 +68,7 @@ def edit(g: Garment, panel: str, *, move=None, rotate: float | None = None,
         transform_panel(g, panel, move_matrix(float(move[0]), float(move[1])))
     if ptype is not None:
         if ptype not in PANEL_TYPES:
-            raise InputError(f"--type {ptype!r} is not one of {', '.join(PANEL_TYPES)}")
+            raise InputError(f"panel type {ptype!r} is not one of {', '.join(PANEL_TYPES)}")
         p.type = ptype
     if texture is not None:
         p.texture = {"image": texture, "size": list(texture_size or (0.1, 0.1))}

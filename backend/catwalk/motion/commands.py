@@ -8,7 +8,7 @@ import math
 import time
 from pathlib import Path
 
-from catwalk.errors import CatwalkError, InputError
+from catwalk.errors import InputError
 
 
 def _walk(args) -> int:
@@ -30,12 +30,12 @@ def _walk(args) -> int:
     if not str(args.output).lower().endswith(".glb"):
         raise InputError(f"-o {args.output}: the walk is written as a .glb file")
 
-    from catwalk.export.gltf import read_body, write_glb
+    from catwalk.exchange.gltf import read_body, write_glb
 
     t0 = time.perf_counter()
     body = read_body(body_path)
     if body.skeleton is None or body.skin_joints is None or body.skin_weights is None:
-        raise CatwalkError(f"--body {body_path}: the body has no rig (skeleton and skin "
+        raise InputError(f"--body {body_path}: the body has no rig (skeleton and skin "
                            "weights); make one with `catwalk body make`")
     motion = walk_motion(body, args.seconds, speed=args.speed, style=args.style, fps=args.fps)
     write_glb(args.output, body, motion)

@@ -32,7 +32,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from catwalk.body.types import Body, Motion
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 from catwalk.motion.ik import bone_delta, two_bone_ik
 from catwalk.motion.quat import axis_angle, make_continuous, mat_to_quat, rot_x, rot_y, rot_z
 
@@ -285,20 +285,20 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
     closing key; the Motion is then not ``loop``-wrapped for velocities).
     """
     if body.skeleton is None or body.skin_joints is None or body.skin_weights is None:
-        raise CatwalkError("this body has no rig (skeleton and skin weights); make it with "
+        raise InputError("this body has no rig (skeleton and skin weights); make it with "
                            "`catwalk body make` or another rigged source")
     if not np.isfinite(seconds) or seconds <= 0:
-        raise CatwalkError(f"--seconds must be > 0, got {seconds}")
+        raise InputError(f"seconds must be > 0, got {seconds}", "seconds")
     if not np.isfinite(speed) or not 0.3 <= speed <= 3.0:
-        raise CatwalkError(f"--speed must be within 0.3–3 m/s, got {speed}")
+        raise InputError(f"speed must be within 0.3–3 m/s, got {speed}", "speed")
     if not np.isfinite(fps) or not 1 <= fps <= 240:
-        raise CatwalkError(f"--fps must be within 1–240, got {fps}")
+        raise InputError(f"fps must be within 1–240, got {fps}", "fps")
     if style not in STYLES:
-        raise CatwalkError(f"unknown style {style!r}; choose one of {', '.join(STYLES)}")
+        raise InputError(f"unknown style {style!r}; choose one of {', '.join(STYLES)}")
     sk = body.skeleton
     missing = [b for b in REQUIRED_BONES if b not in sk.names]
     if missing:
-        raise CatwalkError(f"the body's rig lacks the bones {', '.join(missing)} needed to walk")
+        raise InputError(f"the body's rig lacks the bones {', '.join(missing)} needed to walk")
     st = STYLES[style]
     J = len(sk.names)
     rw = sk.rest_world

@@ -13,7 +13,7 @@ import numba
 import numpy as np
 
 from catwalk.body.types import Body, Motion, Skeleton
-from catwalk.errors import CatwalkError
+from catwalk.errors import Cancelled, InputError
 from catwalk.motion.quat import quat_to_mat
 
 
@@ -125,21 +125,32 @@ def skinning_matrices(skeleton: Skeleton, world: np.ndarray) -> np.ndarray:
     return world @ skeleton.inverse_bind
 
 
-def body_frames(body: Body, motion: Motion) -> tuple[np.ndarray, np.ndarray]:
+def body_frames(body: Body, motion: Motion, *, cancel=None, progress=None,
+                chunk: int = 16) -> tuple[np.ndarray, np.ndarray]:
     """Per-frame world-space vertices (F, N, 3) float32 and velocities (F, N, 3) float32 (m/s).
 
     Velocities are central differences; a looping motion wraps around, its last frame followed
     by the first shifted by ``motion.meta["loop_offset"]`` (the distance walked per loop).
+    The frames are skinned ``chunk`` at a time; between two chunks ``cancel()`` is asked
+    (:class:`~catwalk.errors.Cancelled`) and ``progress(done, frames)`` told.
     """
     if body.skeleton is None or body.skin_joints is None or body.skin_weights is None:
-        raise CatwalkError("this body has no rig (skeleton and skin weights); cannot animate it")
+        raise InputError("this body has no rig (skeleton and skin weights); cannot animate it")
     sk = body.skeleton
     if motion.rotations.shape[1] != len(sk.names):
-        raise CatwalkError(f"motion has {motion.rotations.shape[1]} joints, the body's rig "
+        raise InputError(f"motion has {motion.rotations.shape[1]} joints, the body's rig "
                            f"has {len(sk.names)}")
     world = joint_world_matrices(sk, motion.rotations, motion.translations)
-    verts = skin(body.vertices, body.skin_joints, body.skin_weights,
-                 skinning_matrices(sk, world))
+    mats = skinning_matrices(sk, world)
+    skinner = Skinner(body.vertices, body.skin_joints, body.skin_weights)
+    parts = []
+    for a in range(0, max(len(mats), 1), chunk):
+        if cancel is not None and cancel():
+            raise Cancelled("try-on cancelled")
+        parts.append(skinner(mats[a:a + chunk]))
+        if progress is not None:
+            progress(min(a + chunk, len(mats)), len(mats))
+    verts = np.concatenate(parts) if len(parts) > 1 else parts[0]
     nf = verts.shape[0]
     vel = np.empty_like(verts)
     dt = 1.0 / float(motion.fps)

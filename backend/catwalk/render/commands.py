@@ -50,7 +50,7 @@ def render_sheet(scene, times, views, size) -> np.ndarray:
 
 
 def _render(args) -> int:
-    from catwalk.export.scene import load_scene
+    from catwalk.exchange.scene import load_scene
     from catwalk.render.preview import save_png
 
     for t in args.time:

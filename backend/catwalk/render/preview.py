@@ -17,7 +17,7 @@ import os
 import numba
 import numpy as np
 
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 from catwalk.fileio import atomic_path
 from catwalk.render.raster import (
     Raster,
@@ -38,7 +38,7 @@ def _colours(rgb, n: int) -> np.ndarray:
     if c.shape == (3,):
         c = np.broadcast_to(c, (n, 3))
     elif c.shape != (n, 3):
-        raise CatwalkError(f"colour must be 3 values or one per vertex ({n}, 3), got {c.shape}")
+        raise InputError(f"colour must be 3 values or one per vertex ({n}, 3), got {c.shape}")
     if np.issubdtype(np.asarray(rgb).dtype, np.integer) or c.max(initial=0.0) > 1.0:
         c = c / 255.0
     return np.clip(c, 0.0, 1.0)
@@ -51,23 +51,23 @@ def _gather(meshes):
         try:
             v, f, rgb = item
         except (TypeError, ValueError):
-            raise CatwalkError("each mesh must be (vertices, faces, rgb)") from None
+            raise InputError("each mesh must be (vertices, faces, rgb)") from None
         v = np.asarray(v, dtype=np.float64)
         f = np.asarray(f, dtype=np.int64)
         if v.ndim != 2 or v.shape[1] != 3 or (f.size and (f.ndim != 2 or f.shape[1] != 3)):
-            raise CatwalkError(f"mesh arrays must be (N, 3) and (M, 3), got {v.shape}, {f.shape}")
+            raise InputError(f"mesh arrays must be (N, 3) and (M, 3), got {v.shape}, {f.shape}")
         f = f.reshape(-1, 3)
         if f.size and (f.min() < 0 or f.max() >= len(v)):
-            raise CatwalkError("face index out of range")
+            raise InputError("face index out of range")
         if not np.all(np.isfinite(v)):
-            raise CatwalkError("mesh has non-finite vertices")
+            raise InputError("mesh has non-finite vertices")
         n = vertex_normals(v, f)
         attrs.append(np.hstack([n, _colours(rgb, len(v))]))
         verts.append(v)
         faces.append(f + offset)
         offset += len(v)
     if not verts:
-        raise CatwalkError("nothing to render")
+        raise InputError("nothing to render")
     return np.vstack(verts), np.vstack(faces), np.vstack(attrs)
 
 
@@ -148,10 +148,10 @@ def render_meshes(meshes, view="front", size=(512, 768), *, margin=0.06, floor=T
     v, f, attrs = _gather(meshes)
     w, h = int(size[0]), int(size[1])
     if w < 8 or h < 8:
-        raise CatwalkError(f"image too small: {size}")
+        raise InputError(f"image too small: {size}")
     ss = int(supersample)
     if ss < 1 or ss > 4:
-        raise CatwalkError("supersample must be 1..4")
+        raise InputError("supersample must be 1..4")
     if bbox is None:
         lo = v.min(axis=0)
         hi = v.max(axis=0)
@@ -199,7 +199,7 @@ def save_png(image, path) -> None:
 
     a = np.asarray(image)
     if a.dtype != np.uint8 or a.ndim not in (2, 3) or (a.ndim == 3 and a.shape[2] not in (3, 4)):
-        raise CatwalkError(f"image must be uint8 (H, W[, 3|4]), got {a.dtype} {a.shape}")
+        raise InputError(f"image must be uint8 (H, W[, 3|4]), got {a.dtype} {a.shape}")
     with atomic_path(path) as tmp:
         Image.fromarray(a).save(tmp, format="PNG")
         # the temporary file is created 0600; give the image the usual permissions

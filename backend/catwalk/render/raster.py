@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from catwalk.errors import CatwalkError
+from catwalk.errors import InputError
 
 NAMED_VIEWS = {"front": 0.0, "side": 90.0, "left": 90.0, "back": 180.0, "right": 270.0}
 
@@ -215,7 +215,7 @@ class Raster:
 
 def _keep_far(keep: str) -> bool:
     if keep not in ("near", "far"):
-        raise CatwalkError(f"keep must be 'near' or 'far', not {keep!r}")
+        raise InputError(f"keep must be 'near' or 'far', not {keep!r}")
     return keep == "far"
 
 
@@ -230,9 +230,9 @@ def rasterize(screen_vertices, faces, attributes=None, size=(256, 256), keep="ne
     sv = np.ascontiguousarray(screen_vertices, dtype=np.float64)
     f = np.ascontiguousarray(faces, dtype=np.int64)
     if sv.ndim != 2 or sv.shape[1] != 3:
-        raise CatwalkError(f"screen vertices must be (N, 3), got {sv.shape}")
+        raise InputError(f"screen vertices must be (N, 3), got {sv.shape}")
     if f.size and (f.ndim != 2 or f.shape[1] != 3 or f.min() < 0 or f.max() >= len(sv)):
-        raise CatwalkError("faces must be (M, 3) indices into the vertices")
+        raise InputError("faces must be (M, 3) indices into the vertices")
     f = f.reshape(-1, 3)
     if attributes is None:
         va = np.zeros((len(sv), 0))
@@ -241,18 +241,18 @@ def rasterize(screen_vertices, faces, attributes=None, size=(256, 256), keep="ne
         if va.ndim == 1:
             va = va[:, None]
         if va.shape[0] != len(sv):
-            raise CatwalkError(f"attributes must have one row per vertex, got {va.shape}")
+            raise InputError(f"attributes must have one row per vertex, got {va.shape}")
     if out is None:
         w, h = int(size[0]), int(size[1])
         if w < 1 or h < 1:
-            raise CatwalkError(f"image size must be positive, got {size}")
+            raise InputError(f"image size must be positive, got {size}")
         out = Raster.empty(w, h, va.shape[1], keep)
     else:
         if out.attributes.shape[2] != va.shape[1]:
-            raise CatwalkError("reused raster has a different number of attributes")
+            raise InputError("reused raster has a different number of attributes")
         out.clear()
     if cull not in (CULL_NONE, CULL_BACK, CULL_FRONT):
-        raise CatwalkError(f"cull must be 0, 1 or -1, not {cull!r}")
+        raise InputError(f"cull must be 0, 1 or -1, not {cull!r}")
     raster_kernel(sv, f, va, out.keep_far, out.depth, out.attributes, out.triangle, cull)
     return out
 
@@ -302,7 +302,7 @@ def view_yaw(view) -> float:
         try:
             return float(view)
         except ValueError:
-            raise CatwalkError(
+            raise InputError(
                 f"unknown view {view!r}: use front, side, back, right or a yaw in degrees"
             ) from None
     return float(view)
@@ -332,12 +332,12 @@ def ortho_view(bbox_min, bbox_max, view="front", size=(256, 256), margin=0.0,
     hi = np.asarray(bbox_max, dtype=np.float64)
     if lo.shape != (3,) or hi.shape != (3,) or not np.all(np.isfinite(lo)) or \
             not np.all(np.isfinite(hi)) or np.any(hi < lo):
-        raise CatwalkError("bounding box must be two finite 3-vectors with min <= max")
+        raise InputError("bounding box must be two finite 3-vectors with min <= max")
     w, h = int(size[0]), int(size[1])
     if w < 1 or h < 1:
-        raise CatwalkError(f"image size must be positive, got {size}")
+        raise InputError(f"image size must be positive, got {size}")
     if not 0.0 <= margin < 0.5:
-        raise CatwalkError(f"margin must be in [0, 0.5), got {margin}")
+        raise InputError(f"margin must be in [0, 0.5), got {margin}")
     yaw = view_yaw(view)
     r, u, c = camera_axes(yaw)
     centre = 0.5 * (lo + hi)

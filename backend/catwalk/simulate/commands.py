@@ -11,12 +11,13 @@ import tempfile
 import time
 from pathlib import Path
 
-from catwalk.errors import CatwalkError, InputError
+from catwalk.errors import InputError
 
 
 class ProgressBar:
-    """One line on stderr per stage, redrawn in place on a terminal (a line every 10 % when
-    stderr is not a terminal, e.g. in CI logs)."""
+    """The try-on's overall progress on stderr: one line redrawn in place on a terminal, a line
+    every 10 % (and at each new stage) when stderr is not a terminal (e.g. in CI logs).
+    Called as ``bar(fraction, stage)``."""
 
     def __init__(self, stream=None, quiet: bool = False):
         self.stream = stream or sys.stderr
@@ -26,23 +27,19 @@ class ProgressBar:
         self.t0 = time.perf_counter()
         self.last_pct = -1
 
-    def __call__(self, stage: str, i: int, total: int) -> None:
+    def __call__(self, fraction: float, stage: str) -> None:
         if self.quiet:
             return
-        if stage != self.stage:
-            if self.stage is not None and self.tty:
-                self.stream.write("\n")
-            self.stage, self.t0, self.last_pct = stage, time.perf_counter(), -1
-        pct = int(100 * i / max(total, 1))
+        pct = int(100 * fraction)
         el = time.perf_counter() - self.t0
-        eta = el / i * (total - i) if i else 0.0
+        eta = el / fraction * (1 - fraction) if fraction > 0 else 0.0
         if self.tty:
             bar = "#" * (pct // 4) + "-" * (25 - pct // 4)
-            self.stream.write(f"\r{stage:9s} [{bar}] {i}/{total} {el:5.1f} s, "
+            self.stream.write(f"\r[{bar}] {pct:3d} % {stage:10s} {el:5.1f} s, "
                               f"~{eta:4.0f} s left ")
-        elif pct // 10 != self.last_pct // 10 or i == total:
-            self.stream.write(f"{stage}: {i}/{total} ({pct} %), {el:.1f} s\n")
-        self.last_pct = pct
+        elif pct // 10 != self.last_pct // 10 or stage != self.stage:
+            self.stream.write(f"{pct:3d} % {stage}, {el:.1f} s\n")
+        self.stage, self.last_pct = stage, pct
         self.stream.flush()
 
     def done(self) -> None:
@@ -51,37 +48,17 @@ class ProgressBar:
             self.stream.flush()
 
 
-def _load_inputs(args):
-    from catwalk.export.gltf import read_body
-    from catwalk.garment.check import require_valid
-    from catwalk.garment.model import load_garment
-    from catwalk.simulate.settings import preset
-
-    body_path = Path(args.body)
-    if not body_path.is_file():
-        raise InputError(f"--body {body_path}: no such file")
-    if not str(args.output).lower().endswith(".glb"):
-        raise InputError(f"-o {args.output}: the result is written as a .glb file")
+def _check_outputs(args) -> None:
+    """Before minutes of simulation: every output can be written."""
     from catwalk.fileio import check_writable
 
-    # before minutes of simulation: every output can be written
+    if not str(args.output).lower().endswith(".glb"):
+        raise InputError(f"-o {args.output}: the result is written as a .glb file")
     obj_dir = getattr(args, "obj_dir", None)
     for flag, path in (("-o", args.output), ("--metrics", args.metrics), ("--iv", args.iv),
                        ("--obj-dir", obj_dir and Path(obj_dir) / "frame.obj")):
         if path:
             check_writable(path, flag)
-    garment = load_garment(args.garment)
-    require_valid(garment, Path(args.garment).parent)
-    garment.size(args.size)   # a clear error for an unknown size before any work
-    settings = preset(args.preset).with_(collider=args.collider, h=args.h)
-    if args.fabric is not None:
-        from catwalk.garment.check import resolve_fabric
-        resolve_fabric(args.fabric, "--fabric")
-    body = read_body(body_path)
-    if body.parts is None or not body.landmarks:
-        raise CatwalkError(f"--body {body_path}: the body has no parts or landmarks; make it "
-                           "with `catwalk body make`")
-    return body, garment, settings
 
 
 def _write_metrics(path, metrics: dict) -> None:
@@ -95,28 +72,34 @@ def _summary(metrics: dict, keys) -> dict:
     return {k: metrics[k] for k in keys if k in metrics}
 
 
-def _simulate(args, body, garment, settings, motion):
-    from catwalk.simulate.pipeline import run_tryon
+def _run(args, seconds: float):
+    """The try-on through the public entry point, with a progress bar on stderr."""
+    from catwalk.simulate.tryon import tryon
 
     bar = ProgressBar(quiet=args.quiet)
     try:
-        return run_tryon(body, garment, motion, size=args.size, fabric=args.fabric,
-                         settings=settings, progress=bar)
+        return tryon(args.body, args.garment, size=args.size, fabric=args.fabric,
+                     seconds=seconds, fps=getattr(args, "fps", 30.0),
+                     speed=getattr(args, "speed", 1.2), style=getattr(args, "style", "catwalk"),
+                     preset=args.preset, collider=args.collider, h=args.h, progress=bar)
     finally:
         bar.done()
 
 
-def _dress_cmd(args) -> int:
-    from catwalk.export.garment import write_tryon
-    from catwalk.simulate.pipeline import static_frames
+def _write_iv(path, res) -> None:
+    from catwalk.exchange.inventor import write_inventor
+    from catwalk.simulate.tryon import static_frames
 
-    body, garment, settings = _load_inputs(args)
-    res = _simulate(args, body, garment, settings, None)
-    frames = static_frames(res.dressed)
-    write_tryon(args.output, body, None, [frames], extras={"metrics": res.metrics})
+    write_inventor(path, res.body.vertices, res.body.faces,
+                   [static_frames(res.dressed).mesh_at_frame(0)])
+
+
+def _dress_cmd(args) -> int:
+    _check_outputs(args)
+    res = _run(args, 0.0)
+    res.write(args.output)
     if args.iv:
-        from catwalk.export.inventor import write_inventor
-        write_inventor(args.iv, body.vertices, body.faces, [frames.mesh_at_frame(0)])
+        _write_iv(args.iv, res)
     if args.metrics:
         _write_metrics(args.metrics, res.metrics)
     out = _summary(res.metrics, ("garment", "size", "fabric", "points", "springs",
@@ -127,56 +110,45 @@ def _dress_cmd(args) -> int:
     return 0
 
 
+def _write_obj_dir(obj_dir, res) -> None:
+    from catwalk.exchange.obj import write_obj_frames
+    from catwalk.motion.skinning import body_frames
+
+    verts, _ = body_frames(res.body, res.motion)
+    final = Path(obj_dir)
+    if final.exists() and any(final.iterdir()):
+        raise InputError(f"--obj-dir {final}: exists and is not empty")
+    tmpdir = Path(tempfile.mkdtemp(prefix=".obj-", dir=final.parent if
+                                   final.parent.exists() else None))
+    try:
+        write_obj_frames(tmpdir, res.body.faces, verts, [res.frames()])
+        if final.exists():
+            final.rmdir()
+        shutil.move(str(tmpdir), str(final))
+    except BaseException:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+        raise
+
+
 def _tryon_cmd(args) -> int:
     if not math.isfinite(args.seconds) or not 0 < args.seconds <= 60:
         raise InputError(f"--seconds must be within (0, 60], got {args.seconds}")
-    if not math.isfinite(args.fps) or not 10 <= args.fps <= 60:
-        raise InputError(f"--fps must be within 10–60, got {args.fps}")
-    body, garment, settings = _load_inputs(args)
-    from catwalk.export.garment import write_tryon
-    from catwalk.motion.gait import walk_motion
-    from catwalk.simulate.pipeline import garment_frames
-
-    if body.skeleton is None or body.skin_joints is None:
-        raise CatwalkError(f"--body {args.body}: the body has no rig; make it with "
-                           "`catwalk body make`")
-    motion = walk_motion(body, args.seconds, speed=args.speed, style=args.style, fps=args.fps)
-    res = _simulate(args, body, garment, settings, motion)
-    w = res.walked
-    frames = garment_frames(res.dressed, w.times, w.positions)
-    extras = {"metrics": {k: v for k, v in res.metrics.items()
-                          if k != "penetration_mm_per_frame"}}
+    _check_outputs(args)
+    res = _run(args, args.seconds)
     out = Path(args.output)
     if args.compress:
-        from catwalk.export.compress import compress_glb
-        with tempfile.TemporaryDirectory() as tmp:
-            raw = Path(tmp) / "raw.glb"
-            write_tryon(raw, body, motion, [frames], extras=extras)
-            res.metrics["compression"] = compress_glb(raw, out)
+        from catwalk.exchange.compress import compress_bytes
+        from catwalk.fileio import atomic_path
+
+        data, res.metrics["compression"] = compress_bytes(res.glb())
+        with atomic_path(out) as tmp:
+            tmp.write_bytes(data)
     else:
-        write_tryon(out, body, motion, [frames], extras=extras)
+        res.write(out)
     if args.obj_dir:
-        from catwalk.export.obj import write_obj_frames
-        from catwalk.motion.skinning import body_frames
-        verts, _ = body_frames(body, motion)
-        final = Path(args.obj_dir)
-        if final.exists() and any(final.iterdir()):
-            raise InputError(f"--obj-dir {final}: exists and is not empty")
-        tmpdir = Path(tempfile.mkdtemp(prefix=".obj-", dir=final.parent if
-                                       final.parent.exists() else None))
-        try:
-            write_obj_frames(tmpdir, body.faces, verts, [frames])
-            if final.exists():
-                final.rmdir()
-            shutil.move(str(tmpdir), str(final))
-        except BaseException:
-            shutil.rmtree(tmpdir, ignore_errors=True)
-            raise
+        _write_obj_dir(args.obj_dir, res)
     if args.iv:
-        from catwalk.export.inventor import write_inventor
-        from catwalk.simulate.pipeline import static_frames
-        write_inventor(args.iv, body.vertices, body.faces,
-                       [static_frames(res.dressed).mesh_at_frame(0)])
+        _write_iv(args.iv, res)
     if args.metrics:
         _write_metrics(args.metrics, res.metrics)
     s = _summary(res.metrics, ("garment", "size", "fabric", "collider", "points", "springs",

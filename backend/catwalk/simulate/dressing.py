@@ -41,7 +41,9 @@ strain 2–3× and slowed points: the cloth sinks back onto the point between re
 
 Collisions are resolved ``n`` times per 1/30 s, ``n`` from how far the cloth moved in the
 previous 1/30 s (at most ``max_move`` between two resolves). Everything reports progress as
-``progress(stage, i, total)`` and checks ``cancel()`` once per 1/30 s.
+``progress(stage, i, total)`` (stages ``placing``, ``sewing``, ``settling``, ``relief``) and
+checks ``cancel()`` at every collider resolve, push-out round and relief round (a few ms apart;
+:class:`~catwalk.errors.Cancelled` is raised).
 """
 
 from __future__ import annotations
@@ -56,7 +58,7 @@ import numpy as np
 from catwalk.cloth.model import PLANE_COLUMNS, ClothModel, State
 from catwalk.cloth.solver import ClothExplosionError, Solver, max_strain
 from catwalk.collide import make_collider
-from catwalk.errors import CatwalkError
+from catwalk.errors import Cancelled, InputError, SimulationError
 from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gaps, weld
 from catwalk.simulate.settings import PRESETS, Settings
 
@@ -75,11 +77,7 @@ RELIEF_SLACK = 0.001   # (τ + 0.5 % left the dress M at 0.104, τ 0.10; this co
 RELIEF_ITERATIONS = 16
 
 
-class Cancelled(CatwalkError):
-    """The caller's cancel check returned True."""
-
-
-class DressingError(CatwalkError):
+class DressingError(SimulationError):
     """The garment could not be sewn or settled on this body."""
 
 
@@ -167,7 +165,7 @@ def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, 
 
 def advance(solver: Solver, model: ClothModel, state: State, collider, duration: float,
             collisions: int, x0: np.ndarray, max_collisions: int | None = None,
-            clock: dict | None = None) -> int:
+            clock: dict | None = None, cancel: Callable[[], bool] | None = None) -> int:
     """Simulate ``duration`` seconds with ``collisions`` collider resolves evenly spread (the
     k-th at ``alpha = k/collisions`` of the body's motion over the interval); the solver's own
     time step (below its stability bound) runs in between.
@@ -177,13 +175,16 @@ def advance(solver: Solver, model: ClothModel, state: State, collider, duration:
     sank too far between two resolves is shoved out violently; closer resolves keep it out.
     Returns the number of resolves that succeeded. ``clock`` accumulates seconds spent in the
     cloth solver (``"cloth"``) and in collision response (``"collider"``: the collider, the
-    floor, Provot's correction), and the points slowed to ``MAX_CLOTH_SPEED`` (``"slowed"``)."""
+    floor, Provot's correction), and the points slowed to ``MAX_CLOTH_SPEED`` (``"slowed"``).
+    ``cancel()`` is asked before every resolve (:class:`Cancelled` when it says so)."""
     limit = collisions if max_collisions is None else max(collisions, max_collisions)
     start = state.copy()
     while True:
         try:
             h = duration / collisions
             for k in range(collisions):
+                if cancel is not None and cancel():
+                    raise Cancelled("try-on cancelled")
                 x0[:] = state.positions
                 t0 = time.perf_counter()
                 solver.step(model, state, None, h)
@@ -212,11 +213,13 @@ def _restore(state: State, saved: State) -> None:
 
 
 def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
-             rounds: int = 4) -> None:
+             rounds: int = 4, cancel: Callable[[], bool] | None = None) -> None:
     """Move cloth that starts inside the body out of it (the body at its current pose), and
     let the cloth around the pushed points follow (Provot's position correction with the
     pushed points held) so no spring starts far over its limit; velocities end at zero."""
     for r in range(rounds):
+        if cancel is not None and cancel():
+            raise Cancelled("try-on cancelled")
         x0[:] = state.positions
         held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
         state.held = np.asarray(held, dtype=bool)
@@ -228,6 +231,24 @@ def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.n
         solver.after_collision(model, state, CHUNK, iterations=30)
     state.velocities[:] = 0.0
     state.planes = None
+
+
+def relieve_strain(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
+                   h: float, strain: float, progress, cancel) -> tuple[int, float]:
+    """Strain relief (module docstring, 5.): while the max strain is over τ +
+    ``RELIEF_SLACK``, at most ``STRAIN_RELIEF_ROUNDS`` times, Provot's position correction
+    with the held points free to move, then the collider. Returns (rounds, max strain)."""
+    rounds = 0
+    while rounds < STRAIN_RELIEF_ROUNDS and strain > model.tau + RELIEF_SLACK:
+        if cancel():
+            raise Cancelled("try-on cancelled")
+        solver.after_collision(model, state, h, move_held=True, iterations=RELIEF_ITERATIONS)
+        collide_and_floor(state, collider, x0, 1.0)
+        rounds += 1
+        strain = max_strain(model, state.positions)
+        progress("relief", rounds, STRAIN_RELIEF_ROUNDS)
+    progress("relief", STRAIN_RELIEF_ROUNDS, STRAIN_RELIEF_ROUNDS)
+    return rounds, strain
 
 
 def collisions_for(move: float, settings: Settings) -> int:
@@ -287,9 +308,13 @@ def dress(body, garment, size: str | None = None, fabric=None,
     progress = progress or _quiet
     cancel = cancel or _never
     if body.parts is None:
-        raise CatwalkError("the body has no per-vertex parts; make it with `catwalk body make`")
+        raise InputError("the body has no per-vertex parts; make it with `catwalk body make`")
     t_start = time.perf_counter()
+    progress("placing", 0, 3)
     gc = garment_cloth(garment, body, size, fabric, h=settings.h)
+    if cancel():
+        raise Cancelled("try-on cancelled")
+    progress("placing", 1, 3)
     model = gc.model
     if len(model.seam_a) == 0:
         raise DressingError(f"garment {garment.name!r} has no seams to sew")
@@ -307,7 +332,9 @@ def dress(body, garment, size: str | None = None, fabric=None,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med, extra_air=2.0,
                     held_fixed=False, order_tolerance=ORDER_TOLERANCE)
     x0 = state.positions.copy()
-    push_out(solver, model, state, collider, x0)
+    progress("placing", 2, 3)
+    push_out(solver, model, state, collider, x0, cancel=cancel)
+    progress("placing", 3, 3)
     dclock = {}
 
     # --- sew ---
@@ -320,13 +347,13 @@ def dress(body, garment, size: str | None = None, fabric=None,
     prev = state.positions.copy()
     for i in range(chunks):
         if cancel():
-            raise Cancelled("dressing cancelled")
+            raise Cancelled("try-on cancelled")
         prev[:] = state.positions
         if (i + 1) * CHUNK <= settings.sew_free_seconds:
             solver.step(model, state, None, CHUNK)
         else:
             advance(solver, model, state, collider, CHUNK, settings.sew_collisions, x0,
-                    settings.max_collisions * 4, dclock)
+                    settings.max_collisions * 4, dclock, cancel)
         sewn_chunks = i + 1
         gaps = seam_gaps(model, state.positions)
         history.append(float(gaps.max()))
@@ -357,7 +384,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
 
     solver = settle_solver(welded)
     x0 = st.positions.copy()
-    push_out(solver, welded, st, collider, x0)
+    push_out(solver, welded, st, collider, x0, cancel=cancel)
     prev = st.positions.copy()
     chunks = max(0, round(settings.settle_seconds / CHUNK))
     speed = float("inf")
@@ -367,10 +394,10 @@ def dress(body, garment, size: str | None = None, fabric=None,
     i = 0
     while i < limit:
         if cancel():
-            raise Cancelled("dressing cancelled")
+            raise Cancelled("try-on cancelled")
         prev[:] = st.positions
         advance(solver, welded, st, collider, CHUNK, settings.settle_collisions, x0,
-                settings.max_collisions * 4, dclock)
+                settings.max_collisions * 4, dclock, cancel)
         speed = _rms_move(st.positions, prev) / CHUNK   # √(2·kinetic energy / mass)
         speeds.append(round(speed, 4))
         i += 1
@@ -399,14 +426,9 @@ def dress(body, garment, size: str | None = None, fabric=None,
     # left over the limit, which the ordered pass cannot correct; let Provot's correction move
     # held points too, along the body, and push them back out, a few times
     strain_settled = max_strain(welded, st.positions)
-    relief_rounds = 0
-    strain = strain_settled
-    while relief_rounds < STRAIN_RELIEF_ROUNDS and strain > welded.tau + RELIEF_SLACK:
-        solver.after_collision(welded, st, CHUNK / settings.settle_collisions, move_held=True,
-                               iterations=RELIEF_ITERATIONS)
-        collide_and_floor(st, collider, x0, 1.0)
-        relief_rounds += 1
-        strain = max_strain(welded, st.positions)
+    relief_rounds, strain = relieve_strain(solver, welded, st, collider, x0,
+                                           CHUNK / settings.settle_collisions, strain_settled,
+                                           progress, cancel)
     st.velocities[:] = 0.0
     # what is shown: the body's sharp vertices (bust points) pushed out of the cloth triangles
     # they come through between three points that are all outside (the resolves see points)

@@ -97,7 +97,7 @@ def garment_cloth(garment: Garment, body, size: str | None = None, fabric=None,
         raise InputError("the body has no landmarks (make it with `catwalk body make` or "
                          "measure a scan with `catwalk body measure`)")
     fab = resolve_fabric(fabric if fabric is not None else garment.fabric,
-                         "--fabric" if fabric is not None else "garment fabric")
+                         "fabric" if fabric is not None else "garment fabric")
     pieces, seams = cut_pieces(garment, size)
     if distance is not None:
         garment = replace(garment, panels=[

@@ -66,6 +66,11 @@ def _quat_rest(skeleton) -> tuple[np.ndarray, np.ndarray]:
     return Rotation.from_matrix(r[:, :3, :3]).as_quat(), r[:, :3, 3].copy()
 
 
+def blend_frame_count(settings: Settings, fps: float) -> int:
+    """Frames of the blend from the rest pose into the walk (not recorded)."""
+    return int(round(settings.blend_seconds * fps))
+
+
 def blend_motion(body, motion: Motion, seconds: float) -> Motion:
     """Frames from the body's rest pose to the motion's first pose (exclusive) at its fps."""
     n = int(round(seconds * motion.fps))
@@ -97,7 +102,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     pre = blend_motion(body, motion, settings.blend_seconds)
     full = Motion(motion.fps, np.concatenate([pre.rotations, motion.rotations]),
                   np.concatenate([pre.translations, motion.translations]), loop=False)
-    verts, vels = body_frames(body, full)
+    verts, vels = body_frames(body, full, cancel=cancel,
+                              progress=lambda i, n: progress("skinning", i, n))
     rest = body.vertices.astype(np.float32)
     verts = np.concatenate([rest[None], verts])
     vels = np.concatenate([np.zeros_like(rest)[None], vels])
@@ -125,7 +131,6 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     x0 = state.positions.copy()
     t_col = t_cloth = 0.0
     per_frame, pen_max, pen_p99, strains, strains99, ncols = [], [], [], [], [], []
-    total = len(verts) - 1
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
@@ -138,7 +143,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         tc = time.perf_counter() - t0
         try:
             n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
-                            settings.max_collisions * 4, clock)
+                            settings.max_collisions * 4, clock, cancel)
             # the relaxation may have pulled free points into the body: settle the frame's
             # final positions against the body as it is at the frame's time
             t2 = time.perf_counter()
@@ -175,7 +180,10 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                 pen = penetration(surface, verts[f], xs)
                 pen_max.append(float(pen.max()))
                 pen_p99.append(float(np.percentile(pen, 99)))
-        progress("walking" if rec >= 0 else "blending", f, total)
+        if rec >= 0:
+            progress("walking", rec + 1, nf)
+        else:
+            progress("blending", f, n_pre - 1)
     times = np.arange(nf) / motion.fps
     nrec = max(1, nf)
     steps_per_frame = int(np.ceil(frame_dt / solver.dt_max))

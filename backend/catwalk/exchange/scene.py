@@ -16,13 +16,13 @@ from functools import cached_property
 import numpy as np
 
 from catwalk.body.types import Body, Motion
-from catwalk.export.garment import (
+from catwalk.exchange.gltf import read_body, read_motion
+from catwalk.exchange.tryon_glb import (
     GarmentFrames,
     embedded_images,
     panel_texture_images,
     read_garments,
 )
-from catwalk.export.gltf import read_body, read_motion
 
 SKIN_RGB = (0.80, 0.66, 0.58)
 

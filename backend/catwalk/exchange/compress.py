@@ -14,17 +14,19 @@ from __future__ import annotations
 import subprocess
 from pathlib import Path
 
-from catwalk.errors import InputError
+from catwalk.errors import InputError, SetupError
 from catwalk.fileio import atomic_path
 
 GLTFPACK_ARGS = ("-cc", "-af", "0", "-kn", "-km")
 
 
 def gltfpack_script() -> Path:
-    tools = Path(__file__).resolve().parents[3] / "tools" / "node"
+    from catwalk.config import get_config
+
+    tools = get_config().node_tools_dir
     script = tools / "node_modules" / "gltfpack" / "cli.js"
     if not script.is_file():
-        raise RuntimeError("gltfpack is not installed: run `make install`")
+        raise SetupError(f"gltfpack is not installed in {tools}: run `make install`")
     return script
 
 
@@ -47,3 +49,15 @@ def compress_glb(src: str | Path, dst: str | Path) -> dict:
             raise InputError(f"{src}: gltfpack failed ({res.returncode}): {msg}")
     a, b = src.stat().st_size, dst.stat().st_size
     return {"input_bytes": a, "output_bytes": b, "ratio": a / b}
+
+
+def compress_bytes(data: bytes) -> tuple[bytes, dict]:
+    """A meshopt-compressed copy of the .glb ``data`` and ``{"input_bytes", "output_bytes",
+    "ratio"}``."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="catwalk-pack-") as tmp:
+        src, dst = Path(tmp) / "in.glb", Path(tmp) / "out.glb"
+        src.write_bytes(data)
+        stats = compress_glb(src, dst)
+        return dst.read_bytes(), stats

@@ -4,7 +4,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from catwalk.body.types import Body, Motion, Skeleton
-from catwalk.export.garment import GarmentFrames
+from catwalk.exchange.tryon_glb import GarmentFrames
 
 
 def box_body(subdivisions: int = 1, split_parts: bool = False) -> Body:

@@ -20,6 +20,7 @@ Damaged files are read with ezdxf's recover mode. Every problem raises
 
 from __future__ import annotations
 
+import io
 import math
 import re
 from dataclasses import dataclass, field
@@ -28,6 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
+from catwalk.exchange.source import read_source
 from catwalk.garment.geometry import (
     Segment,
     flatten,
@@ -74,20 +76,33 @@ class Piece:
 
 # --- reading the file ----------------------------------------------------------------------
 
-def _read_doc(path: Path):
+def _read_doc(data: bytes, path: str):
+    """The DXF document in ``data`` and warnings: read strictly (text in the encoding its
+    header names, or binary DXF), else in ezdxf's recover mode, else refused with the reason."""
     import ezdxf
     from ezdxf import recover
+    from ezdxf.document import Drawing
+    from ezdxf.filemanagement import dxf_stream_info
+    from ezdxf.lldxf.tagger import binary_tags_loader
+    from ezdxf.lldxf.validator import is_dxf_stream
 
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+    if not data.strip():
+        raise InputError(f"{path}: the file is empty")
     try:
-        return ezdxf.readfile(str(path)), []
+        if data.startswith(b"AutoCAD Binary DXF"):
+            return Drawing.load(binary_tags_loader(data, errors="surrogateescape")), []
+        head = data[:65536].decode("cp1252", errors="surrogateescape")
+        if not is_dxf_stream(io.StringIO(head)):
+            raise InputError(f"{path}: not readable as DXF (no DXF section structure at the "
+                             "start)")
+        encoding = dxf_stream_info(io.StringIO(head)).encoding
+        return ezdxf.read(io.StringIO(data.decode(encoding, errors="surrogateescape"))), []
     except ezdxf.DXFStructureError:
         pass
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
+    except (LookupError, UnicodeDecodeError, ValueError, IndexError) as exc:
         raise InputError(f"{path}: not readable as DXF ({exc})") from None
     try:
-        doc, auditor = recover.readfile(str(path))
+        doc, auditor = recover.read(io.BytesIO(data))
     except ezdxf.DXFStructureError as exc:
         raise InputError(f"{path}: not a DXF file, or damaged beyond repair ({exc})") from None
     except (OSError, UnicodeDecodeError, ValueError) as exc:
@@ -215,7 +230,7 @@ def _loop_from(entities, scale: float, where: str, tol: float):
 def _units(doc, units: str | None, path: Path) -> float:
     if units is not None:
         if units not in UNIT_SCALE:
-            raise InputError(f"--units {units!r}: use one of {', '.join(UNIT_SCALE)}")
+            raise InputError(f"units {units!r}: use one of {', '.join(UNIT_SCALE)}")
         return UNIT_SCALE[units]
     found = set()
     for layout in [doc.modelspace(), *doc.blocks]:
@@ -282,11 +297,12 @@ def _on_layer(entities, layer: str):
     return [e for e in entities if str(e.dxf.get("layer", "0")).strip().upper() == layer]
 
 
-def read_dxf(path: str | Path, size: str | None = None, units: str | None = None
+def read_dxf(source, size: str | None = None, units: str | None = None
              ) -> tuple[list[Piece], list[str]]:
-    """Pieces of a pattern DXF (all sizes, or only ``size``) and warnings."""
-    path = Path(path)
-    doc, warnings = _read_doc(path)
+    """Pieces of a pattern DXF (a path, bytes or a binary file object; all sizes, or only
+    ``size``) and warnings."""
+    data, path = read_source(source, "dxf")
+    doc, warnings = _read_doc(data, path)
     msp = doc.modelspace()
     if len(msp) == 0:
         raise InputError(f"{path}: no pattern pieces found (model space is empty: an empty or "

@@ -20,13 +20,14 @@ import pygltflib as g
 
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
-from catwalk.export.gltf import (
+from catwalk.exchange.gltf import (
     GlbBuilder,
     _read_accessor,
     add_body,
     add_motion,
     load_glb,
 )
+from catwalk.exchange.source import source_name
 from catwalk.render.raster import vertex_normals
 
 CLIP = "walk"
@@ -132,7 +133,7 @@ class GarmentFrames:
 
     def mesh_at_frame(self, i: int, rgb=None) -> tuple[str, np.ndarray, np.ndarray, object]:
         """``(name, vertices, triangles, rgb)`` of frame ``i`` (rgb: per-vertex panel colours
-        unless given), the tuple :meth:`catwalk.export.scene.Scene.meshes_at` returns."""
+        unless given), the tuple :meth:`catwalk.exchange.scene.Scene.meshes_at` returns."""
         if rgb is None:
             rgb = np.asarray([c[:3] for c in self.colors], dtype=np.float64)[
                 np.asarray(self.panel)]
@@ -294,6 +295,13 @@ def write_tryon(path, body: Body, motion: Motion | None, garments: list[GarmentF
     build_tryon(body, motion, garments, extras=extras, morph_normals=morph_normals).save(path)
 
 
+def tryon_bytes(body: Body, motion: Motion | None, garments: list[GarmentFrames], *,
+                extras: dict | None = None, morph_normals: bool = False) -> bytes:
+    """The .glb :func:`write_tryon` writes, as bytes."""
+    return build_tryon(body, motion, garments, extras=extras,
+                       morph_normals=morph_normals).to_bytes()
+
+
 # ----------------------------------------------------------------------------- reading
 
 def _weights_channel(gltf: g.GLTF2, node: int):
@@ -310,6 +318,7 @@ def read_garments(path) -> list[GarmentFrames]:
     grouped by panel (in the order written: stable by panel index); textures name the image
     file as it was written (the image itself is embedded in the .glb)."""
     gltf, blob = load_glb(path)
+    path = source_name(path, "try-on")
     out = []
     for ni, node in enumerate(gltf.nodes):
         if node.mesh is None:
@@ -367,6 +376,7 @@ def embedded_images(path) -> dict[int, np.ndarray]:
     from PIL import Image
 
     gltf, blob = load_glb(path)
+    path = source_name(path, "try-on")
     out = {}
     for i, im in enumerate(gltf.images or []):
         if im.bufferView is None:

@@ -5,7 +5,7 @@ from tryon_samples import box_body
 
 from catwalk.body.types import Motion
 from catwalk.errors import InputError
-from catwalk.export import gltf
+from catwalk.exchange import gltf
 
 
 def _box_body():
@@ -45,18 +45,18 @@ def test_body_with_motion_round_trips_and_validates(tmp_path):
 
 def test_write_is_atomic_on_failure(tmp_path, monkeypatch):
     """A write that dies half-way leaves neither a partial file nor the old file damaged."""
-    import pygltflib
+    import pathlib
 
     body = _box_body()
     target = tmp_path / "x.glb"
     target.write_bytes(b"previous result")
 
-    def dies_half_way(self, path):
-        with open(path, "wb") as f:
-            f.write(b"glTF half-written")
+    def dies_half_way(self, data):
+        with open(self, "wb") as f:
+            f.write(data[: len(data) // 2])
         raise OSError("disk full")
 
-    monkeypatch.setattr(pygltflib.GLTF2, "save_binary", dies_half_way)
+    monkeypatch.setattr(pathlib.Path, "write_bytes", dies_half_way)
     with pytest.raises(OSError, match="disk full"):
         gltf.write_glb(target, body, _motion())
     assert sorted(p.name for p in tmp_path.iterdir()) == ["x.glb"]

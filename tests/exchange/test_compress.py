@@ -2,9 +2,9 @@ import pytest
 from tryon_samples import box_body, motion, skirt, stripes_png
 
 from catwalk.errors import InputError
-from catwalk.export import gltf
-from catwalk.export.compress import compress_glb
-from catwalk.export.garment import write_tryon
+from catwalk.exchange import gltf
+from catwalk.exchange.compress import compress_glb
+from catwalk.exchange.tryon_glb import write_tryon
 
 
 def test_compressed_tryon_validates_and_keeps_morph_animation(tmp_path):

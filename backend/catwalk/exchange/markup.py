@@ -29,19 +29,12 @@ in the first size; graded pieces keep their vertex numbers across sizes.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.garment.model import (
-    GARMENT_TYPES,
-    PANEL_TYPES,
-    Garment,
-    Panel,
-    Seam,
-    SeamSide,
+from catwalk.exchange.garment_json import (
     _bool,
     _int,
     _list,
@@ -53,18 +46,17 @@ from catwalk.garment.model import (
     garment_from_dict,
     garment_to_dict,
 )
+from catwalk.exchange.source import read_json
+from catwalk.garment.model import GARMENT_TYPES, PANEL_TYPES, Garment, Panel, Seam, SeamSide
 
 SNAP = 5e-3   # metres
 
 
-def load_markup(path: str | Path) -> dict:
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such markup file")
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"{path}: not readable JSON ({exc})") from None
+def load_markup(source) -> dict:
+    """A markup document (a path, bytes or a binary file object)."""
+    if isinstance(source, (str, Path)) and not Path(source).is_file():
+        raise InputError(f"{source}: no such markup file")
+    data, path = read_json(source, "markup")
     if not isinstance(data, dict):
         raise InputError(f"{path}: markup must be a JSON object")
     return data

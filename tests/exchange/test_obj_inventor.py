@@ -5,8 +5,8 @@ import pytest
 from tryon_samples import box_body, skirt, stripes_png
 
 from catwalk.errors import InputError
-from catwalk.export.inventor import write_inventor
-from catwalk.export.obj import write_obj_frames
+from catwalk.exchange.inventor import write_inventor
+from catwalk.exchange.obj import write_obj_frames
 
 
 def test_obj_frames_hold_body_and_garment_objects(tmp_path):

@@ -22,6 +22,7 @@ from scipy.spatial.transform import Rotation
 
 from catwalk.body.types import Body, Motion, Skeleton
 from catwalk.errors import InputError
+from catwalk.exchange.source import read_source, source_name
 from catwalk.fileio import atomic_path
 from catwalk.render.raster import vertex_normals
 
@@ -138,13 +139,18 @@ class GlbBuilder:
                                                         roughnessFactor=roughness)))
         return len(self.gltf.materials) - 1
 
-    def save(self, path: str | Path) -> None:
+    def to_bytes(self) -> bytes:
+        """The .glb file as bytes (what :meth:`save` writes)."""
         while len(self._blob) % 4:
             self._blob.append(0)
         self.gltf.buffers = [g.Buffer(byteLength=len(self._blob))]
         self.gltf.set_binary_blob(bytes(self._blob))
+        return b"".join(self.gltf.save_to_bytes())
+
+    def save(self, path: str | Path) -> None:
+        data = self.to_bytes()
         with atomic_path(path) as tmp:
-            self.gltf.save_binary(str(tmp))
+            tmp.write_bytes(data)
 
 
 def _trs(m: np.ndarray) -> tuple[list[float], list[float]]:
@@ -247,6 +253,15 @@ def add_motion(b: GlbBuilder, motion: Motion, joint_nodes: list[int], name: str 
 
 def write_glb(path: str | Path, body: Body, motion: Motion | None = None) -> None:
     """Write a body (skinned when rigged), with its walk when a motion is given."""
+    build_glb(body, motion).save(path)
+
+
+def glb_bytes(body: Body, motion: Motion | None = None) -> bytes:
+    """The .glb :func:`write_glb` writes, as bytes."""
+    return build_glb(body, motion).to_bytes()
+
+
+def build_glb(body: Body, motion: Motion | None = None) -> GlbBuilder:
     b = GlbBuilder()
     _, joint_nodes = add_body(b, body)
     if motion is not None:
@@ -255,7 +270,7 @@ def write_glb(path: str | Path, body: Body, motion: Motion | None = None) -> Non
         if motion.rotations.shape[1] != len(joint_nodes):
             raise ValueError("motion and skeleton have different joint counts")
         add_motion(b, motion, joint_nodes)
-    b.save(path)
+    return b
 
 
 # ----------------------------------------------------------------------------- reading
@@ -283,12 +298,24 @@ def _read_accessor(gltf: g.GLTF2, blob: bytes, index: int) -> np.ndarray:
     return np.array(arr)
 
 
-def load_glb(path: str | Path) -> tuple[g.GLTF2, bytes]:
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
+def load_glb(source, what: str = "glb") -> tuple[g.GLTF2, bytes]:
+    """The glTF object and binary chunk of a .glb given as a path, bytes or a file object
+    (``what`` names bytes in messages)."""
+    import struct
+
+    data, path = read_source(source, what)
+    if data[:4] != b"glTF":
+        raise InputError(f"{path}: not a GLB file (no 'glTF' magic)")
+    if len(data) < 20:
+        raise InputError(f"{path}: truncated GLB ({len(data)} bytes)")
+    version, length = struct.unpack("<II", data[4:12])
+    if version != 2:
+        raise InputError(f"{path}: GLB version {version}; only glTF 2.0 is read")
+    if length > len(data):
+        raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
+                         f"file has {len(data):,}")
     try:
-        gltf = g.GLTF2().load(str(path))
+        gltf = g.GLTF2.load_from_bytes(data)
         blob = gltf.binary_blob() or b""
     except Exception as exc:  # pygltflib raises many kinds on damaged files
         raise InputError(f"{path}: not a readable glTF/GLB file ({exc})") from exc
@@ -310,9 +337,11 @@ def _node_local(node: g.Node) -> np.ndarray:
     return m
 
 
-def read_body(path: str | Path) -> Body:
-    """Read a body written by :func:`write_glb` (or any glb with one skinned mesh)."""
-    gltf, blob = load_glb(path)
+def read_body(source) -> Body:
+    """Read a body written by :func:`write_glb` (or any glb with one skinned mesh) from a path,
+    bytes or a file object."""
+    gltf, blob = load_glb(source, "body")
+    path = source_name(source, "body")
     mesh_node = next((i for i, n in enumerate(gltf.nodes) if n.mesh is not None
                       and n.skin is not None), None)
     if mesh_node is None:
@@ -351,9 +380,9 @@ def read_body(path: str | Path) -> Body:
     return body
 
 
-def read_motion(path: str | Path, name: str | None = None) -> Motion | None:
+def read_motion(source, name: str | None = None) -> Motion | None:
     """The joint animation of a file written by :func:`write_glb`, at its stored frames."""
-    gltf, blob = load_glb(path)
+    gltf, blob = load_glb(source)
     if not gltf.animations:
         return None
     anim = next((a for a in gltf.animations if name is None or a.name == name), None)
@@ -395,7 +424,9 @@ def validate(paths: list[str | Path]) -> list[dict]:
     """Run the Khronos glTF validator (npm gltf-validator, in tools/node) on files."""
     import subprocess
 
-    tools = Path(__file__).resolve().parents[3] / "tools" / "node"
+    from catwalk.config import get_config
+
+    tools = get_config().node_tools_dir
     script = tools / "validate.mjs"
     if not (tools / "node_modules" / "gltf-validator").is_dir():
         raise RuntimeError("gltf-validator is not installed: run `make install`")

@@ -5,9 +5,9 @@ import pytest
 from tryon_samples import box_body, motion, skirt, stripes_png
 
 from catwalk.errors import InputError
-from catwalk.export import gltf
-from catwalk.export.garment import read_garments, write_tryon
-from catwalk.export.scene import load_scene
+from catwalk.exchange import gltf
+from catwalk.exchange.scene import load_scene
+from catwalk.exchange.tryon_glb import read_garments, write_tryon
 
 
 @pytest.fixture

@@ -17,12 +17,12 @@ adds panel names, types, placement and the seams.
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from catwalk.errors import InputError
+from catwalk.exchange.source import read_json
 from catwalk.garment.geometry import Segment, flatten, polygon_area, reverse_segments
 from catwalk.garment.model import Garment, Panel, Shape
 
@@ -140,15 +140,12 @@ def freesewing_to_garment(draft: dict, where: str = "draft") -> Garment:
                            "converter": "catwalk garment from-freesewing"})
 
 
-def load_freesewing(path: str | Path) -> Garment:
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such draft (run node garments/freesewing/draft.mjs)")
-    try:
-        data = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"{path}: not readable JSON ({exc})") from None
-    return freesewing_to_garment(data, str(path.name))
+def load_freesewing(source) -> Garment:
+    """A FreeSewing draft from draft.mjs (a path, bytes or a binary file object)."""
+    if isinstance(source, (str, Path)) and not Path(source).is_file():
+        raise InputError(f"{source}: no such draft (run node garments/freesewing/draft.mjs)")
+    data, where = read_json(source, "draft")
+    return freesewing_to_garment(data, Path(where).name)
 
 
 def describe(g: Garment, size: str | None = None) -> str:

@@ -24,6 +24,7 @@ The result is in metres, +Y up, facing +Z (body's left = +X), feet on y = 0, cen
 
 from __future__ import annotations
 
+import io
 import struct
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
+from catwalk.exchange.source import read_source
 
 MAX_FACES = 2_000_000
 EXTENSIONS = {".obj": "obj", ".ply": "ply", ".stl": "stl", ".glb": "glb"}
@@ -87,14 +89,13 @@ class Scan:
 # reading
 
 
-def _precheck(path: Path, fmt: str) -> None:
+def _precheck(data: bytes, path: str, fmt: str) -> None:
     """Cheap checks before a full parse: empty files and declared face counts."""
-    size = path.stat().st_size
+    size = len(data)
     if size == 0:
         raise InputError(f"{path}: the file is empty")
     if fmt == "stl":
-        with open(path, "rb") as f:
-            head = f.read(84)
+        head = data[:84]
         if not head.lstrip().lower().startswith(b"solid") and len(head) >= 84:
             (n,) = struct.unpack("<I", head[80:84])
             if size < 84 + 50 * n:
@@ -103,8 +104,7 @@ def _precheck(path: Path, fmt: str) -> None:
             if n > MAX_FACES:
                 raise InputError(f"{path}: {n:,} faces; at most {MAX_FACES:,} are accepted")
     elif fmt == "ply":
-        with open(path, "rb") as f:
-            head = f.read(4096)
+        head = data[:4096]
         if not head.startswith(b"ply"):
             raise InputError(f"{path}: not a PLY file (no 'ply' magic)")
         for line in head.split(b"\n"):
@@ -119,8 +119,7 @@ def _precheck(path: Path, fmt: str) -> None:
             if line.strip() == b"end_header":
                 break
     elif fmt == "glb":
-        with open(path, "rb") as f:
-            head = f.read(12)
+        head = data[:12]
         if len(head) < 12 or head[:4] != b"glTF":
             raise InputError(f"{path}: not a GLB file (no 'glTF' magic)")
         (length,) = struct.unpack("<I", head[8:12])
@@ -129,11 +128,11 @@ def _precheck(path: Path, fmt: str) -> None:
                              f"file has {size:,}")
 
 
-def _read(path: Path, fmt: str) -> tuple[np.ndarray, np.ndarray]:
+def _read(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
     import trimesh
 
     try:
-        loaded = trimesh.load(str(path), file_type=fmt, force="scene", process=False)
+        loaded = trimesh.load(io.BytesIO(data), file_type=fmt, force="scene", process=False)
     except InputError:
         raise
     except (UnicodeDecodeError, ModuleNotFoundError):
@@ -350,17 +349,61 @@ def _detect_forward(v, faces, up_axis, up_sign):
 # the loader
 
 
-def load_scan(path) -> Scan:
-    """Read a body scan (OBJ, PLY, STL, GLB) and bring it to metres, glTF axes, feet on y = 0."""
-    path = Path(path)
-    fmt = EXTENSIONS.get(path.suffix.lower())
+def sniff_format(data: bytes) -> str | None:
+    """The scan format the bytes look like (glb, ply, stl, obj), or None."""
+    head = data[:512]
+    if head[:4] == b"glTF":
+        return "glb"
+    if head[:3] == b"ply":
+        return "ply"
+    text = head.lstrip()
+    if text[:5].lower() == b"solid" and b"facet" in data[:4096]:
+        return "stl"
+    if any(line.split()[:1] in ([b"v"], [b"f"], [b"o"], [b"g"], [b"mtllib"], [b"vn"], [b"vt"])
+           for line in text.splitlines() if not line.startswith(b"#")):
+        return "obj"
+    if len(data) >= 84:   # binary STL: 80-byte header, triangle count, 50 bytes a triangle
+        (n,) = struct.unpack("<I", data[80:84])
+        if len(data) == 84 + 50 * n:
+            return "stl"
+    return None
+
+
+def scan_format(source, data: bytes, name: str, format: str | None = None) -> str:
+    """The format of a scan: ``format`` if given, else the file name's extension, else what
+    the bytes look like. Raises :class:`InputError` when none of them is a scan format."""
+    if format is not None:
+        fmt = format.lower().lstrip(".")
+        if fmt not in EXTENSIONS.values():
+            raise InputError(f"{name}: unsupported scan format {format!r}; use obj, ply, stl "
+                             "or glb", "format")
+        return fmt
+    suffix = Path(name).suffix.lower()
+    if suffix in EXTENSIONS:
+        return EXTENSIONS[suffix]
+    if isinstance(source, (str, Path)) or suffix:
+        raise InputError(f"{name}: unsupported file type {suffix or '(none)'!r}; use .obj, "
+                         ".ply, .stl or .glb")
+    fmt = sniff_format(data)
     if fmt is None:
-        raise InputError(f"{path}: unsupported file type {path.suffix or '(none)'!r}; "
-                         "use .obj, .ply, .stl or .glb")
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
-    _precheck(path, fmt)
-    v, f = _read(path, fmt)
+        raise InputError(f"{name}: not a scan in a format catwalk reads (OBJ, PLY, STL, GLB)")
+    return fmt
+
+
+def load_scan(source, *, format: str | None = None, name: str | None = None) -> Scan:
+    """Read a body scan (OBJ, PLY, STL, GLB) and bring it to metres, glTF axes, feet on y = 0.
+    ``source``: a path, bytes or a binary file object; ``format``: the format when neither
+    a file name nor the bytes tell it; ``name``: how messages name the scan."""
+    if isinstance(source, (str, Path)):
+        suffix = Path(source).suffix.lower()
+        if format is None and suffix not in EXTENSIONS:
+            raise InputError(f"{source}: unsupported file type {suffix or '(none)'!r}; "
+                             "use .obj, .ply, .stl or .glb")
+    data, path = read_source(source, "scan")
+    path = name or path
+    fmt = scan_format(source, data, path, format)
+    _precheck(data, path, fmt)
+    v, f = _read(data, path, fmt)
     if len(f) > MAX_FACES:
         raise InputError(f"{path}: {len(f):,} faces; at most {MAX_FACES:,} are accepted")
     if f.min() < 0 or f.max() >= len(v):

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.export.garment import GarmentFrames
+from catwalk.exchange.tryon_glb import GarmentFrames
 from catwalk.fileio import atomic_path
 
 SKIN_RGB = (0.80, 0.66, 0.58)

@@ -23,13 +23,13 @@ part, front/back).
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 
 from catwalk.errors import InputError
+from catwalk.exchange.source import read_json
 from catwalk.garment.geometry import Segment, run_length, segment_lengths
 from catwalk.garment.model import Garment, Panel, Placement, Seam, SeamSide, Shape
 
@@ -207,14 +207,10 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
                            "converter": "catwalk garment from-garmentcode"})
 
 
-def load_garmentcode(path: str | Path, name: str | None = None, garment_type: str | None = None,
+def load_garmentcode(source, name: str | None = None, garment_type: str | None = None,
                      size: str = "M") -> Garment:
-    path = Path(path)
-    if not path.is_file():
-        raise InputError(f"{path}: no such file")
-    try:
-        spec = json.loads(path.read_text())
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"{path}: not readable JSON ({exc})") from None
-    stem = path.stem.replace("_specification", "")
-    return garmentcode_to_garment(spec, name or stem, garment_type, size, where=path.name)
+    """A GarmentCode specification (a path, bytes or a binary file object) as a garment."""
+    spec, where = read_json(source, "garmentcode")
+    where = Path(where).name
+    stem = Path(where).stem.replace("_specification", "")
+    return garmentcode_to_garment(spec, name or stem, garment_type, size, where=where)

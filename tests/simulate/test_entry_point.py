@@ -1,0 +1,97 @@
+"""catwalk.tryon, the one entry point: bytes in, bytes out, the same bytes every time, one
+monotonic progress fraction, and cancellation in every stage."""
+
+import time
+
+import pytest
+
+import catwalk
+from catwalk.errors import Cancelled, InputError
+from catwalk.simulate.tryon import TryOn
+
+SKIRT = "garments/pencil-skirt.json"
+SMALL = {"size": "M", "preset": "fast", "h": 0.03, "seconds": 0.5, "measure": False}
+STAGES = ["placing", "sewing", "settling", "relief", "gait", "skinning", "blending", "walking"]
+
+
+@pytest.fixture(scope="module")
+def first(body_glb, repo_root):
+    reports = []
+    res = catwalk.tryon(body_glb, repo_root / SKIRT,
+                        progress=lambda f, s: reports.append((f, s)), **SMALL)
+    return res, reports
+
+
+def test_the_same_inputs_give_the_same_bytes_from_paths_or_bytes(first, body_glb, repo_root):
+    res, _ = first
+    assert isinstance(res, TryOn) and res.motion is not None
+    again = catwalk.tryon(body_glb.read_bytes(), (repo_root / SKIRT).read_bytes(),
+                          garment_dir=repo_root / "garments", garment_id="pencil-skirt", **SMALL)
+    a, b = res.glb(), again.glb()
+    assert a[:4] == b"glTF" and len(a) > 10_000
+    assert a == b
+    # wall-clock times are in the metrics, not in the file
+    assert res.metrics["dressing_seconds"] > 0 and "ms_per_frame" in res.metrics
+    assert b"dressing_seconds" not in a and b"ms_per_frame" not in a
+
+
+def test_progress_is_one_monotonic_fraction_through_every_stage(first):
+    _, reports = first
+    fractions = [f for f, _ in reports]
+    assert fractions == sorted(fractions)
+    assert 0 <= fractions[0] < 0.05 and fractions[-1] == 1.0 and reports[-1][1] == "done"
+    seen = []
+    for _, s in reports:
+        if not seen or seen[-1] != s:
+            seen.append(s)
+    assert seen == STAGES + ["done"]   # in order, each once
+    # the fraction is spread over the work: the walk is not all at the end
+    at = {s: f for f, s in reversed(reports)}
+    assert 0.1 < at["walking"] < 0.9
+
+
+@pytest.mark.parametrize("stage", STAGES)
+def test_cancel_is_honoured_in_every_stage(body_glb, repo_root, stage):
+    state = {"stage": None, "asked_at": None, "polls": []}
+
+    def report(fraction, s):
+        state["stage"] = s
+
+    def cancel():
+        now = time.perf_counter()
+        state["polls"].append(now)
+        if state["stage"] == stage and state["asked_at"] is None:
+            state["asked_at"] = now
+        return state["asked_at"] is not None
+
+    with pytest.raises(Cancelled):
+        catwalk.tryon(body_glb, repo_root / SKIRT, progress=report, cancel=cancel, **SMALL)
+    assert state["asked_at"] is not None, f"never reached {stage}"
+    # stopped where it was asked: no later stage was entered
+    assert STAGES.index(state["stage"]) <= STAGES.index(stage) + 1
+    assert time.perf_counter() - state["asked_at"] < 0.5
+
+
+def test_bad_options_name_the_parameter_before_any_work(body_glb, repo_root):
+    cases = [({"size": "XXXL"}, "size"), ({"seconds": -1}, "seconds"),
+             ({"seconds": 61}, "seconds"), ({"fps": 5}, "fps"),
+             ({"fabric": "cardboard"}, "fabric"), ({"preset": "turbo"}, None)]
+    for change, field in cases:
+        t0 = time.perf_counter()
+        with pytest.raises(InputError) as err:
+            catwalk.tryon(body_glb, repo_root / SKIRT, **{**SMALL, **change})
+        assert time.perf_counter() - t0 < 2.0, change
+        if field:
+            assert err.value.field == field or field in str(err.value), (change, err.value)
+        assert "--" not in str(err.value)
+    with pytest.raises(InputError, match="body"):
+        catwalk.tryon(b"glTF nothing", repo_root / SKIRT, **SMALL)
+    with pytest.raises(InputError, match="not readable JSON"):
+        catwalk.tryon(body_glb, b"{not json", **SMALL)
+
+
+def test_a_dressing_alone_is_seconds_zero(body_glb, repo_root):
+    res = catwalk.tryon(body_glb, repo_root / SKIRT, **{**SMALL, "seconds": 0})
+    assert res.motion is None and res.walked is None
+    assert res.frames().frames == 1
+    assert res.glb()[:4] == b"glTF"
