@@ -8,9 +8,9 @@ STAMP := $(VENV)/.installed
 NODE_STAMP := tools/node/node_modules/.installed
 FS_STAMP := garments/freesewing/node_modules/.installed
 PYTEST_ARGS ?=
-DEMO_GARMENT ?= garments/dress.json
+DEMO_GARMENT ?= dress
 
-.PHONY: install demo test lint bodies clean
+.PHONY: install demo test lint bodies clean services
 
 install: $(STAMP) $(NODE_STAMP) $(FS_STAMP)
 	$(CATWALK) assets
@@ -30,18 +30,15 @@ $(FS_STAMP): garments/freesewing/package.json garments/freesewing/package-lock.j
 	touch $@
 
 demo: install
-	mkdir -p demo
-	$(CATWALK) body make --sex female --height 1.68 --bust 0.90 --waist 0.72 --hips 0.98 -o demo/body.glb
-	$(CATWALK) tryon --body demo/body.glb --garment $(DEMO_GARMENT) --size M --seconds 4 \
-		-o demo/tryon.glb --metrics demo/metrics.json
-	$(CATWALK) render demo/tryon.glb --time 0.5 1.4 2.3 3.2 --view front side --size 360x540 \
-		-o demo/tryon.png
-	@echo "demo: wrote demo/tryon.glb (open it in any glTF viewer), demo/metrics.json and the preview demo/tryon.png"
+	$(CATWALK) demo --garment $(DEMO_GARMENT) --size M --seconds 4 --out-dir demo
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check backend tests
 
-test: install lint
+services:
+	tools/services/ensure.sh
+
+test: install lint services
 	$(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
 bodies: install

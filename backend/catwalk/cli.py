@@ -28,6 +28,7 @@ COMMAND_MODULES = [
     "catwalk.collide.commands",
     "catwalk.garment.commands",
     "catwalk.simulate.commands",
+    "catwalk.service.commands",
 ]
 
 GROUPS = {

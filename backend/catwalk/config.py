@@ -52,6 +52,8 @@ class Config(BaseSettings):
                                          "are made into generated/ below it")
     node_tools_dir: Path = Field(default=REPO_DIR / "tools" / "node",
                                  description="gltfpack and the glTF validator (npm)")
+    frontend_dir: Path = Field(default=REPO_DIR / "frontend" / "dist",
+                               description="the built pages `catwalk serve` serves at /")
 
     # --- the service
     database_url: str | None = Field(
@@ -75,7 +77,8 @@ class Config(BaseSettings):
                                   description="how long POST /api/bodies waits for a body")
     log_level: str = Field(default="INFO")
 
-    @field_validator("data_dir", "storage_dir", "catalogue_dir", "bodies_dir", "node_tools_dir")
+    @field_validator("data_dir", "storage_dir", "catalogue_dir", "bodies_dir", "node_tools_dir",
+                     "frontend_dir")
     @classmethod
     def _expand(cls, v: Path) -> Path:
         return Path(v).expanduser()

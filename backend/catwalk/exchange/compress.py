@@ -30,9 +30,10 @@ def gltfpack_script() -> Path:
     return script
 
 
-def compress_glb(src: str | Path, dst: str | Path) -> dict:
+def compress_glb(src: str | Path, dst: str | Path, cancel=None) -> dict:
     """Write ``dst``, a meshopt-compressed copy of ``src`` (atomically). Returns
-    ``{"input_bytes", "output_bytes", "ratio"}``."""
+    ``{"input_bytes", "output_bytes", "ratio"}``. ``cancel()`` is asked every 50 ms while
+    gltfpack runs (it is stopped and :class:`~catwalk.errors.Cancelled` raised)."""
     src, dst = Path(src), Path(dst)
     if not src.is_file():
         raise InputError(f"{src}: no such file")
@@ -42,16 +43,37 @@ def compress_glb(src: str | Path, dst: str | Path) -> dict:
         raise InputError(f"{dst}: the compressed file must be a .glb")
     script = gltfpack_script()
     with atomic_path(dst) as tmp:
-        res = subprocess.run(["node", str(script), "-i", str(src.resolve()), "-o", str(tmp),
-                              *GLTFPACK_ARGS], capture_output=True, text=True, timeout=600)
-        if res.returncode != 0 or not tmp.is_file() or tmp.stat().st_size == 0:
-            msg = (res.stderr or res.stdout).strip()[-2000:]
-            raise InputError(f"{src}: gltfpack failed ({res.returncode}): {msg}")
+        code, out = _run(["node", str(script), "-i", str(src.resolve()), "-o", str(tmp),
+                          *GLTFPACK_ARGS], cancel)
+        if code != 0 or not tmp.is_file() or tmp.stat().st_size == 0:
+            raise InputError(f"{src}: gltfpack failed ({code}): {out.strip()[-2000:]}")
     a, b = src.stat().st_size, dst.stat().st_size
     return {"input_bytes": a, "output_bytes": b, "ratio": a / b}
 
 
-def compress_bytes(data: bytes) -> tuple[bytes, dict]:
+def _run(cmd: list[str], cancel, timeout: float = 600.0) -> tuple[int, str]:
+    """Run ``cmd``; (exit code, its output). Stopped when ``cancel()`` or after ``timeout``."""
+    import time
+
+    from catwalk.errors import Cancelled
+
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True) as proc:
+        t0 = time.monotonic()
+        while True:
+            try:
+                out, _ = proc.communicate(timeout=0.05)
+                return proc.returncode, out or ""
+            except subprocess.TimeoutExpired:
+                if (cancel is not None and cancel()) or time.monotonic() - t0 > timeout:
+                    proc.kill()
+                    proc.communicate()
+                    if cancel is not None and cancel():
+                        raise Cancelled("try-on cancelled") from None
+                    return -9, f"gltfpack took more than {timeout:g} s"
+
+
+def compress_bytes(data: bytes, cancel=None) -> tuple[bytes, dict]:
     """A meshopt-compressed copy of the .glb ``data`` and ``{"input_bytes", "output_bytes",
     "ratio"}``."""
     import tempfile
@@ -59,5 +81,5 @@ def compress_bytes(data: bytes) -> tuple[bytes, dict]:
     with tempfile.TemporaryDirectory(prefix="catwalk-pack-") as tmp:
         src, dst = Path(tmp) / "in.glb", Path(tmp) / "out.glb"
         src.write_bytes(data)
-        stats = compress_glb(src, dst)
+        stats = compress_glb(src, dst, cancel)
         return dst.read_bytes(), stats

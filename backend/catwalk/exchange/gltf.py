@@ -314,6 +314,11 @@ def load_glb(source, what: str = "glb") -> tuple[g.GLTF2, bytes]:
     if length > len(data):
         raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
                          f"file has {len(data):,}")
+    import hashlib
+
+    key = hashlib.sha1(data).digest()
+    if key in _PARSED:   # several readers of one file parse it once
+        return _PARSED[key]
     try:
         gltf = g.GLTF2.load_from_bytes(data)
         blob = gltf.binary_blob() or b""
@@ -321,7 +326,14 @@ def load_glb(source, what: str = "glb") -> tuple[g.GLTF2, bytes]:
         raise InputError(f"{path}: not a readable glTF/GLB file ({exc})") from exc
     if gltf is None or not gltf.meshes:
         raise InputError(f"{path}: contains no mesh")
+    _PARSED[key] = (gltf, blob)
+    while len(_PARSED) > 2:
+        _PARSED.pop(next(iter(_PARSED)))
     return gltf, blob
+
+
+# the last files parsed (pygltflib takes ~1 s for a walk's JSON); readers never modify them
+_PARSED: dict[bytes, tuple[g.GLTF2, bytes]] = {}
 
 
 def _node_local(node: g.Node) -> np.ndarray:

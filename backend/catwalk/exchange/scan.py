@@ -400,8 +400,8 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
             raise InputError(f"{source}: unsupported file type {suffix or '(none)'!r}; "
                              "use .obj, .ply, .stl or .glb")
     data, path = read_source(source, "scan")
-    path = name or path
     fmt = scan_format(source, data, path, format)
+    path = name or path
     _precheck(data, path, fmt)
     v, f = _read(data, path, fmt)
     if len(f) > MAX_FACES:

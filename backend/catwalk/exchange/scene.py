@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 
 import numpy as np
 
@@ -131,7 +132,28 @@ class Scene:
         return out
 
 
-def load_scene(path) -> Scene:
+def scene_of(body: Body, motion: Motion | None, garments: list[GarmentFrames]) -> Scene:
+    """The scene of a try-on still in memory (no file read back): textures from the image
+    files the garment frames name."""
+    import io
+
+    from PIL import Image
+
+    def image(tex):
+        if tex is None:
+            return None
+        pic = Image.open(io.BytesIO(Path(tex[0]).read_bytes())).convert("RGBA")
+        return np.asarray(pic, dtype=np.float64) / 255.0
+
+    rgb = [garment_vertex_colours(gm, [image(t) for t in gm.textures]) for gm in garments]
+    return Scene(body=body, motion=motion, garments=list(garments), garment_rgb=rgb)
+
+
+def load_scene(source) -> Scene:
+    """The scene of a try-on .glb (a path, bytes or a binary file object)."""
+    from catwalk.exchange.source import read_source
+
+    path, _ = read_source(source, "try-on")   # read once: several readers parse it
     garments = read_garments(path)
     rgb = []
     if garments:

@@ -1,0 +1,124 @@
+"""The FastAPI app: ``create_app(config)``; served by ``catwalk serve`` (uvicorn).
+
+At start it brings the database schema up to date, starts the recovery loop (jobs whose worker
+died run again; jobs the broker lost are sent again), warms the body pool and starts the
+catalogue's missing thumbnails. Uploads larger than ``CATWALK_UPLOAD_MAX_BYTES`` are refused
+with 413 as soon as their size is known (the header, or the bytes counted so far): never read
+whole.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import logging
+from pathlib import Path
+
+from fastapi import FastAPI
+from fastapi.staticfiles import StaticFiles
+
+from catwalk.config import Config, get_config
+from catwalk.service.api import errors
+from catwalk.service.api.errors import UploadTooLarge
+from catwalk.service.api.routes import bodies, garments, health, tryons
+from catwalk.service.bodies import BodyMaker
+from catwalk.service.catalogue import Catalogue
+from catwalk.service.storage import Storage
+from catwalk.service.thumbnails import Thumbnails
+
+log = logging.getLogger("catwalk.api")
+
+
+class LimitUploads:
+    """ASGI middleware: a request body over ``limit`` bytes gets 413 without being read whole
+    (refused on its Content-Length, or as soon as the bytes received pass the limit)."""
+
+    def __init__(self, app, limit: int):
+        self.app, self.limit = app, limit
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http" or scope["method"] not in ("POST", "PUT", "PATCH"):
+            return await self.app(scope, receive, send)
+        headers = dict(scope.get("headers") or [])
+        length = headers.get(b"content-length")
+        if length is not None and length.isdigit() and int(length) > self.limit:
+            return await self._refuse(send, int(length))
+        seen = 0
+        started = False
+
+        async def counted():
+            nonlocal seen
+            msg = await receive()
+            if msg["type"] == "http.request":
+                seen += len(msg.get("body", b""))
+                if seen > self.limit:
+                    raise UploadTooLarge()
+            return msg
+
+        async def watched(msg):
+            nonlocal started
+            if msg["type"] == "http.response.start":
+                started = True
+            await send(msg)
+
+        try:
+            await self.app(scope, counted, watched)
+        except UploadTooLarge:
+            if not started:
+                await self._refuse(send, None)
+
+    async def _refuse(self, send, length):
+        told = f" ({length:,} bytes)" if length else ""
+        body = json.dumps(errors.error_body(
+            413, f"the upload{told} is over the limit of {self.limit:,} bytes")).encode()
+        await send({"type": "http.response.start", "status": 413,
+                    "headers": [(b"content-type", b"application/json"),
+                                (b"content-length", str(len(body)).encode()),
+                                (b"connection", b"close")]})
+        await send({"type": "http.response.body", "body": body})
+
+
+def create_app(config: Config | None = None, *, recovery: bool = True,
+               frontend: Path | None = None) -> FastAPI:
+    """The API. ``recovery``: run the recovery loop in this process; ``frontend``: a folder of
+    static pages served at ``/`` (the built frontend), if it exists."""
+    from catwalk.service import db
+    from catwalk.service.worker import Recovery
+
+    config = config or get_config()
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app: FastAPI):
+        db.migrate(config)
+        app.state.storage.root.mkdir(parents=True, exist_ok=True)
+        loop_thread = None
+        if recovery:
+            loop_thread = Recovery(config)
+            loop_thread.start()
+        app.state.maker.warm()
+        with contextlib.suppress(Exception):
+            for entry in app.state.catalogue.entries().values():
+                app.state.thumbnails.ensure(entry)
+        log.info(json.dumps({"event": "api_ready", "embedded": config.embedded}))
+        yield
+        if loop_thread is not None:
+            loop_thread.stop.set()
+        app.state.maker.close()
+
+    app = FastAPI(
+        title="catwalk", version=__import__("catwalk").__version__, lifespan=lifespan,
+        description="A shopper's body walks a catwalk in a simulated garment. Bodies (from a "
+                    "scan or measurements), the garment catalogue, try-on jobs with progress "
+                    "as server-sent events, and their results as glTF.")
+    app.state.config = config
+    app.state.storage = Storage(config.storage_dir)
+    app.state.catalogue = Catalogue(config)
+    app.state.maker = BodyMaker(1)
+    app.state.thumbnails = Thumbnails(app.state.storage, app.state.maker)
+    errors.install(app)
+    for r in (health.router, garments.router, bodies.router, tryons.router):
+        app.include_router(r)
+    if frontend is not None and (frontend / "index.html").is_file():
+        app.mount("/", StaticFiles(directory=frontend, html=True), name="frontend")
+    app.add_middleware(LimitUploads, limit=config.upload_max_bytes)
+    return app

@@ -1,0 +1,21 @@
+"""What routes get from the app: its settings, storage, catalogue, pools."""
+
+from __future__ import annotations
+
+from fastapi import Request
+
+from catwalk.config import Config
+from catwalk.service.catalogue import Catalogue
+from catwalk.service.storage import Storage
+
+
+def config(request: Request) -> Config:
+    return request.app.state.config
+
+
+def storage(request: Request) -> Storage:
+    return request.app.state.storage
+
+
+def catalogue(request: Request) -> Catalogue:
+    return request.app.state.catalogue

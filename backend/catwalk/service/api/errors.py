@@ -1,0 +1,98 @@
+"""Every error the API answers is JSON: ``{"error": {"code", "message", "field"?}}``.
+
+Bad input is a 4xx naming what is wrong and where (400 unreadable, 404 unknown id, 409 not
+possible in the current state, 413 too large, 415 wrong content type, 422 invalid); nothing
+the client sends produces a 500 or a traceback.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import traceback
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+from catwalk.errors import InputError
+
+log = logging.getLogger("catwalk.api")
+
+CODES = {400: "bad_request", 401: "unauthorized", 404: "not_found", 405: "method_not_allowed",
+         409: "conflict", 413: "too_large", 415: "unsupported_media_type", 416: "bad_range",
+         422: "invalid", 503: "not_ready"}
+
+
+class UploadTooLarge(Exception):
+    """The request body passed the upload limit while it was being read (answered 413 by
+    :class:`catwalk.service.api.app.LimitUploads`)."""
+
+
+class ApiError(Exception):
+    def __init__(self, status: int, message: str, field: str | None = None,
+                 code: str | None = None, headers: dict | None = None):
+        super().__init__(message)
+        self.status, self.message, self.field = status, message, field
+        self.code = code or CODES.get(status, "error")
+        self.headers = headers
+
+
+def not_found(what: str, ident: str, field: str | None = None) -> ApiError:
+    return ApiError(404, f"no {what} with id {ident!r}", field)
+
+
+def error_body(status: int, message: str, field: str | None = None,
+               code: str | None = None, **extra) -> dict:
+    err = {"code": code or CODES.get(status, "error"), "message": message}
+    if field:
+        err["field"] = field
+    err.update(extra)
+    return {"error": err}
+
+
+def _json(status: int, body: dict, headers: dict | None = None) -> JSONResponse:
+    return JSONResponse(body, status_code=status, headers=headers)
+
+
+def _field(loc) -> str | None:
+    parts = [str(p) for p in loc if p not in ("body", "query", "path", "header")]
+    return ".".join(parts) or None
+
+
+def install(app: FastAPI) -> None:
+    @app.exception_handler(ApiError)
+    async def _api_error(request: Request, exc: ApiError):
+        return _json(exc.status, error_body(exc.status, exc.message, exc.field, exc.code),
+                     exc.headers)
+
+    @app.exception_handler(InputError)
+    async def _input_error(request: Request, exc: InputError):
+        return _json(422, error_body(422, str(exc), exc.field))
+
+    @app.exception_handler(RequestValidationError)
+    async def _invalid(request: Request, exc: RequestValidationError):
+        errs = exc.errors()
+        details = [{"field": _field(e.get("loc", ())), "message": e.get("msg", "invalid")}
+                   for e in errs]
+        first = details[0] if details else {"field": None, "message": "invalid request"}
+        if any(e.get("type") == "json_invalid" for e in errs):
+            return _json(400, error_body(400, "the request body is not valid JSON"))
+        msg = f"{first['field']}: {first['message']}" if first["field"] else first["message"]
+        return _json(422, error_body(422, msg, first["field"], details=details))
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request: Request, exc: StarletteHTTPException):
+        msg = exc.detail if isinstance(exc.detail, str) else "request refused"
+        if exc.status_code == 404 and msg == "Not Found":
+            msg = f"no such route: {request.method} {request.url.path}"
+        return _json(exc.status_code, error_body(exc.status_code, msg),
+                     getattr(exc, "headers", None))
+
+    @app.exception_handler(Exception)
+    async def _unexpected(request: Request, exc: Exception):
+        log.error(json.dumps({"event": "internal_error", "path": request.url.path,
+                              "trace": traceback.format_exc()[-4000:]}))
+        return _json(500, error_body(500, "internal error; it has been logged",
+                                     code="internal"))

@@ -1,0 +1,199 @@
+"""Bodies: ``POST /api/bodies`` (a scan, or measurements), ``GET``, ``DELETE``; never listed.
+
+A scan is multipart with a ``scan`` file part (OBJ, PLY, STL, GLB; units and up axis are
+detected) and an optional ``sex`` field (inferred from the shape when missing); measurements
+are JSON ``{"sex", "height", "bust", "waist", "hips"}`` in metres.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import time
+
+from fastapi import APIRouter, Depends, Request
+from fastapi.responses import FileResponse, Response
+from pydantic import ValidationError
+from sqlalchemy import select
+
+from catwalk.config import Config
+from catwalk.errors import InputError
+from catwalk.service import db, jobs, keys
+from catwalk.service.api import deps, schemas
+from catwalk.service.api.errors import ApiError, UploadTooLarge, not_found
+from catwalk.service.bodies import make_from_measurements, make_from_scan
+from catwalk.service.models import BodyRow
+
+router = APIRouter(prefix="/api/bodies", tags=["bodies"])
+log = logging.getLogger("catwalk.api")
+
+SCAN_TYPES = {".obj": "obj", ".ply": "ply", ".stl": "stl", ".glb": "glb"}
+
+_BODY_REQUEST = {
+    "requestBody": {"required": True, "content": {
+        "application/json": {"schema": schemas.Measurements.model_json_schema()},
+        "multipart/form-data": {"schema": {
+            "type": "object", "required": ["scan"],
+            "properties": {"scan": {"type": "string", "format": "binary",
+                                    "description": "OBJ, PLY, STL or GLB; any units and "
+                                                   "up axis"},
+                           "sex": {"type": "string", "enum": ["female", "male"]}}}}}}}
+
+
+def body_view(row: BodyRow) -> dict:
+    return {"id": row.id, "source": row.source, "fit": row.fit, "sex": row.sex,
+            "sex_inferred": bool((row.measurements or {}).get("_sex_inferred", False)),
+            "measurements": {k: v for k, v in (row.measurements or {}).items()
+                             if not k.startswith("_")},
+            "model_measurements": row.model_measurements or {},
+            "body_url": f"/api/bodies/{row.id}/body.glb"}
+
+
+def _get_row(config: Config, body_id: str) -> BodyRow:
+    with db.session(config) as s:
+        row = s.get(BodyRow, body_id)
+    if row is None:
+        raise not_found("body", body_id, "body_id")
+    return row
+
+
+async def _measurements(request: Request) -> schemas.Measurements:
+    raw = await request.body()
+    try:
+        data = json.loads(raw or b"null")
+    except (UnicodeDecodeError, ValueError):
+        raise ApiError(400, "the request body is not valid JSON") from None
+    if not isinstance(data, dict):
+        raise ApiError(422, "measurements are a JSON object {\"sex\", \"height\", \"bust\", "
+                            "\"waist\", \"hips\"} in metres")
+    try:
+        return schemas.Measurements.model_validate(data)
+    except ValidationError as exc:
+        e = exc.errors()[0]
+        field = ".".join(str(p) for p in e.get("loc", ())) or None
+        raise ApiError(422, f"{field}: {e['msg']}" if field else e["msg"], field) from None
+
+
+async def _scan(request: Request) -> tuple[bytes, str, str | None]:
+    from catwalk.exchange.scan import sniff_format
+
+    try:
+        form = await request.form(max_files=1, max_fields=4)
+    except UploadTooLarge:
+        raise
+    except Exception as exc:   # a broken multipart body
+        raise ApiError(400, f"the multipart body cannot be read ({exc})") from None
+    scan = form.get("scan")
+    if scan is None or isinstance(scan, str):
+        raise ApiError(422, "a scan is sent as a file part named 'scan' (OBJ, PLY, STL or GLB)",
+                       "scan")
+    sex = form.get("sex")
+    if sex not in (None, "", "female", "male"):
+        raise ApiError(422, f"sex must be female or male, not {sex!r}", "sex")
+    data = await scan.read()
+    if not data:
+        raise ApiError(422, "the scan is empty", "scan")
+    name = (scan.filename or "").lower()
+    ext = "." + name.rsplit(".", 1)[-1] if "." in name else ""
+    fmt = SCAN_TYPES.get(ext) if ext else sniff_format(data)
+    if fmt is None:
+        raise ApiError(415, f"the scan {'type ' + repr(ext) if ext else 'format'} is not one "
+                            "catwalk reads: send OBJ, PLY, STL or GLB", "scan")
+    return data, fmt, sex or None
+
+
+@router.post("", status_code=201, response_model=schemas.Body, openapi_extra=_BODY_REQUEST,
+             responses=schemas.ERRORS)
+async def create_body(request: Request, config: Config = Depends(deps.config),
+                      storage=Depends(deps.storage)) -> dict:
+    """A body from a scan (multipart) or from measurements (JSON)."""
+    ctype = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    body_id = jobs.new_id()
+    out = storage.body_glb(body_id)
+    maker = request.app.state.maker
+    t0 = time.perf_counter()
+    try:
+        if ctype == "application/json":
+            m = await _measurements(request)
+            values = {k: getattr(m, k) for k in ("height", "bust", "waist", "hips")}
+            made = await maker.run(make_from_measurements, str(out), m.sex, values,
+                                   timeout=config.body_timeout_s)
+            row = BodyRow(id=body_id, source="measurements", fit="measurements", sex=m.sex,
+                          content_key=keys.measurements_key(m.sex, values),
+                          measurements=values, model_measurements=made["model_measurements"])
+        elif ctype == "multipart/form-data":
+            data, fmt, sex = await _scan(request)
+            scan_path = storage.write(storage.scan_path(body_id, fmt), data)
+            made = await maker.run(make_from_scan, str(scan_path), str(out), sex,
+                                   timeout=config.body_timeout_s)
+            row = BodyRow(id=body_id, source="scan", fit="measurements", sex=made["sex"],
+                          content_key=keys.scan_key(data, sex), scan_format=fmt,
+                          measurements={**made["measurements"],
+                                        "_sex_inferred": made["sex_inferred"]},
+                          model_measurements=made["model_measurements"])
+        else:
+            raise ApiError(415, "send measurements as application/json or a scan as "
+                                "multipart/form-data (a file part named 'scan')")
+    except InputError as exc:
+        storage.remove_body(body_id)
+        raise ApiError(422, str(exc), exc.field or ("scan" if ctype.startswith("multipart")
+                                                    else None)) from None
+    except TimeoutError:
+        storage.remove_body(body_id)
+        raise ApiError(503, f"the body was not made within {config.body_timeout_s:g} s; try "
+                            "again", code="busy") from None
+    except BaseException:
+        storage.remove_body(body_id)
+        raise
+    await asyncio.to_thread(_insert, config, row)
+    # the body's id and how it went only: measurements and scans are never logged
+    log.info(json.dumps({"event": "body_created", "body": body_id, "source": row.source,
+                         "seconds": round(time.perf_counter() - t0, 2)}))
+    out_view = body_view(row)
+    if row.source == "scan":
+        out_view["scan"] = made.get("scan")
+    return out_view
+
+
+def _insert(config: Config, row: BodyRow) -> None:
+    with db.session(config) as s:
+        s.add(row)
+
+
+@router.get("/{body_id}", response_model=schemas.Body, responses=schemas.ERRORS)
+def get_body(body_id: str, config: Config = Depends(deps.config)) -> dict:
+    return body_view(_get_row(config, body_id))
+
+
+@router.get("/{body_id}/body.glb", responses={200: {"content": {"model/gltf-binary": {}}},
+                                              **schemas.ERRORS})
+def body_glb(body_id: str, config: Config = Depends(deps.config),
+             storage=Depends(deps.storage)):
+    """The rigged body (skinned mesh, skeleton, landmarks) as glTF."""
+    _get_row(config, body_id)
+    path = storage.body_glb(body_id)
+    if not path.is_file():
+        raise not_found("body file", body_id, "body_id")
+    return FileResponse(path, media_type="model/gltf-binary",
+                        headers={"Cache-Control": "private, max-age=3600"})
+
+
+@router.delete("/{body_id}", status_code=204, responses=schemas.ERRORS)
+def delete_body(body_id: str, config: Config = Depends(deps.config),
+                storage=Depends(deps.storage)) -> Response:
+    """Delete the body, its scan, every try-on made from it and their results (those no
+    other body shares). A running try-on of it stops."""
+    _get_row(config, body_id)
+    orphaned = jobs.delete_for_body(config, body_id)
+    with db.session(config) as s:
+        row = s.get(BodyRow, body_id)
+        if row is not None:
+            s.delete(row)
+        left = s.scalars(select(BodyRow.id).where(BodyRow.id == body_id)).first()
+    for key in orphaned:
+        storage.remove_result(key)
+    storage.remove_body(body_id)
+    log.info(json.dumps({"event": "body_deleted", "body": body_id, "results": len(orphaned),
+                         "gone": left is None}))
+    return Response(status_code=204)

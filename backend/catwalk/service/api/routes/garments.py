@@ -1,0 +1,75 @@
+"""The catalogue: ``GET /api/garments``, ``/api/garments/{id}``, its thumbnail and pattern."""
+
+from __future__ import annotations
+
+import asyncio
+
+from fastapi import APIRouter, Depends, Query, Request
+from fastapi.responses import FileResponse, Response
+
+from catwalk.errors import InputError
+from catwalk.service.api import deps, schemas
+from catwalk.service.api.errors import ApiError, not_found
+
+router = APIRouter(prefix="/api/garments", tags=["garments"])
+
+
+def _entry(catalogue, garment_id: str):
+    try:
+        return catalogue.get(garment_id)
+    except InputError:
+        raise not_found("garment", garment_id, "garment_id") from None
+
+
+@router.get("", response_model=schemas.Garments)
+def list_garments(type: str | None = Query(None, description="only garments of this type"),
+                  catalogue=Depends(deps.catalogue)) -> dict:
+    """Every garment in the catalogue."""
+    items = [e.summary() for e in catalogue.entries().values()
+             if type is None or e.garment.type == type]
+    return {"garments": items}
+
+
+@router.get("/{garment_id}", response_model=schemas.GarmentDetail,
+            responses=schemas.ERRORS)
+def get_garment(garment_id: str, catalogue=Depends(deps.catalogue)) -> dict:
+    return _entry(catalogue, garment_id).detail()
+
+
+@router.get("/{garment_id}/thumbnail.png", responses={200: {"content": {"image/png": {}}}})
+async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.catalogue)):
+    """The garment dressed on a sample body (front view). Until it has been rendered, the
+    flat cutting pattern (not cached)."""
+    entry = _entry(catalogue, garment_id)
+    thumbs = request.app.state.thumbnails
+    path = thumbs.path(entry)
+    if not path.is_file():
+        task = thumbs.ensure(entry)
+        if task is not None:
+            await asyncio.wait({task}, timeout=2.0)
+    if path.is_file():
+        return FileResponse(path, media_type="image/png",
+                            headers={"Cache-Control": "public, max-age=31536000, immutable",
+                                     "ETag": f'"{entry.version}"'})
+    png = await asyncio.to_thread(_pattern, entry, None)
+    return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
+
+
+def _pattern(entry, size):
+    from catwalk.render.pattern import pattern_png
+
+    return pattern_png(entry.garment, size)
+
+
+@router.get("/{garment_id}/pattern.png", responses={200: {"content": {"image/png": {}}}})
+async def pattern(garment_id: str, size: str | None = None,
+                  catalogue=Depends(deps.catalogue)):
+    """The garment's cutting pattern in one size, drawn flat."""
+    entry = _entry(catalogue, garment_id)
+    if size is not None and size not in entry.garment.sizes:
+        raise ApiError(422, f"garment {garment_id!r} has no size {size!r} (sizes: "
+                            f"{', '.join(entry.garment.sizes)})", "size")
+    png = await asyncio.to_thread(_pattern, entry, size)
+    return Response(png, media_type="image/png",
+                    headers={"Cache-Control": "public, max-age=3600",
+                             "ETag": f'"{entry.version}-{size or "default"}"'})

@@ -1,0 +1,41 @@
+"""``/healthz`` (the process answers) and ``/readyz`` (database, broker, storage reachable)."""
+
+from __future__ import annotations
+
+import asyncio
+import time
+
+from fastapi import APIRouter, Depends
+from fastapi.responses import JSONResponse
+
+from catwalk.config import Config
+from catwalk.service.api import deps
+
+router = APIRouter(tags=["health"])
+
+
+@router.get("/healthz")
+def healthz() -> dict:
+    return {"status": "ok"}
+
+
+def _probe(name: str, fn) -> dict:
+    t0 = time.perf_counter()
+    try:
+        fn()
+        return {"ok": True, "ms": round(1e3 * (time.perf_counter() - t0), 1)}
+    except Exception as exc:
+        return {"ok": False, "error": f"{type(exc).__name__}: {exc}"[:300]}
+
+
+@router.get("/readyz")
+async def readyz(config: Config = Depends(deps.config), storage=Depends(deps.storage)):
+    from catwalk.service import db, queue
+
+    checks = await asyncio.to_thread(lambda: {
+        "database": _probe("database", lambda: db.ping(config)),
+        "broker": _probe("broker", lambda: queue.ping(config)),
+        "storage": _probe("storage", storage.check)})
+    ok = all(c["ok"] for c in checks.values())
+    return JSONResponse({"status": "ready" if ok else "not ready", "checks": checks},
+                        status_code=200 if ok else 503)

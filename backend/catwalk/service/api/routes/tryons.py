@@ -1,0 +1,202 @@
+"""Try-ons: ``POST /api/tryons`` → 202 (queued) or 200 (already made: ``"cached": true``);
+``GET`` its status, ``/events`` (server-sent events until it ends), ``DELETE`` (cancel);
+``/result.glb`` (meshopt for the web unless ``?compress=0``) and ``/preview.png``."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+
+from fastapi import APIRouter, Depends, Query, Request
+from fastapi.responses import FileResponse, JSONResponse, Response
+from sse_starlette.sse import EventSourceResponse
+
+from catwalk.config import Config
+from catwalk.errors import InputError
+from catwalk.service import db, jobs, keys
+from catwalk.service.api import deps, schemas
+from catwalk.service.api.errors import ApiError, not_found
+from catwalk.service.models import FINISHED, BodyRow, TryOnRow, utcnow
+
+router = APIRouter(prefix="/api/tryons", tags=["tryons"])
+log = logging.getLogger("catwalk.api")
+EVENT_POLL_S = 0.25
+
+
+def _view(config: Config, row: TryOnRow) -> dict:
+    out = jobs.view(row)
+    if row.status == "done":
+        res = jobs.result(config, row.key)
+        if res is not None:
+            out["metrics"] = res.metrics
+    return out
+
+
+def _job(config: Config, job_id: str) -> TryOnRow:
+    row = jobs.get(config, job_id)
+    if row is None:
+        raise not_found("try-on", job_id)
+    return row
+
+
+def _submit(config: Config, catalogue, req: schemas.TryOnRequest) -> tuple[TryOnRow, bool]:
+    """The try-on row for ``req``: a new queued one, this body's running one with the same
+    key, or a done one answered from the cache. (row, needs sending)."""
+    from catwalk.garment.check import resolve_fabric
+
+    with db.session(config) as s:
+        body = s.get(BodyRow, req.body_id)
+    if body is None:
+        raise not_found("body", req.body_id, "body_id")
+    try:
+        entry = catalogue.get(req.garment_id)
+    except InputError:
+        raise not_found("garment", req.garment_id, "garment_id") from None
+    g = entry.garment
+    if req.size is not None and req.size not in g.sizes:
+        raise ApiError(422, f"garment {req.garment_id!r} has no size {req.size!r} (sizes: "
+                            f"{', '.join(g.sizes)})", "size")
+    size = g.size(req.size)
+    fabric = None if req.fabric in (None, entry.fabric) else req.fabric
+    if fabric is not None:
+        if fabric not in entry.fabrics:
+            raise ApiError(422, f"unknown fabric {fabric!r} (choose from "
+                                f"{', '.join(entry.fabrics)})", "fabric")
+        resolve_fabric(fabric, "fabric")
+    key = keys.tryon_key(body.content_key, entry.id, entry.version, size, fabric,
+                         req.seconds, req.preset)
+    running = jobs.active_for(config, body.id, key)
+    if running is not None:
+        return running, False
+    cached = jobs.result(config, key) is not None
+    row = TryOnRow(id=jobs.new_id(), key=key, body_id=body.id, garment_id=entry.id,
+                   garment_version=entry.version, size=size, fabric=fabric,
+                   seconds=req.seconds, preset=req.preset, cancel_requested=False,
+                   attempts=0, cached=cached,
+                   status="done" if cached else "queued", progress=1.0 if cached else 0.0,
+                   stage="done" if cached else "queued")
+    if cached:
+        row.finished_at = row.created_at = row.enqueued_at = utcnow()
+    with db.session(config) as s:
+        s.add(row)
+    return row, not cached
+
+
+@router.post("", status_code=202, response_model=schemas.TryOn,
+             responses={200: {"model": schemas.TryOn,
+                              "description": "already made: answered from the cache"},
+                        **schemas.ERRORS})
+async def create_tryon(req: schemas.TryOnRequest, config: Config = Depends(deps.config),
+                       catalogue=Depends(deps.catalogue)):
+    """Ask for a try-on of a body in a catalogue garment."""
+    from catwalk.service.queue import send
+
+    row, needs_sending = await asyncio.to_thread(_submit, config, catalogue, req)
+    if needs_sending:
+        try:
+            await asyncio.to_thread(send, config, row.id)
+        except Exception as exc:   # the recovery loop sends it once the broker is back
+            log.warning(json.dumps({"event": "send_failed", "job": row.id,
+                                    "error": type(exc).__name__}))
+    view = await asyncio.to_thread(_view, config, row)
+    log.info(json.dumps({"event": "tryon_asked", "job": row.id, "status": row.status,
+                         "cached": row.cached, "garment": row.garment_id}))
+    return JSONResponse(view, status_code=200 if row.status == "done" else 202)
+
+
+@router.get("/{job_id}", response_model=schemas.TryOn, responses=schemas.ERRORS)
+def get_tryon(job_id: str, config: Config = Depends(deps.config)) -> dict:
+    return _view(config, _job(config, job_id))
+
+
+@router.get("/{job_id}/events", responses={200: {"content": {"text/event-stream": {}}},
+                                           **schemas.ERRORS})
+async def tryon_events(job_id: str, request: Request, config: Config = Depends(deps.config)):
+    """The try-on's status as server-sent events (``event: progress`` on every change, then
+    one ``event: done|failed|cancelled``), until it ends."""
+    row = await asyncio.to_thread(_job, config, job_id)
+
+    async def stream():
+        last = None
+        current = row
+        while True:
+            view = await asyncio.to_thread(_view, config, current) if current else None
+            if view is None:
+                yield {"event": "failed", "data": json.dumps(
+                    {"id": job_id, "status": "failed", "error": "the try-on was deleted"})}
+                return
+            state = (view["status"], view["progress"], view["stage"])
+            if view["status"] in FINISHED:
+                yield {"event": view["status"], "data": json.dumps(view)}
+                return
+            if state != last:
+                yield {"event": "progress", "data": json.dumps(view)}
+                last = state
+            if await request.is_disconnected():
+                return
+            await asyncio.sleep(EVENT_POLL_S)
+            current = await asyncio.to_thread(jobs.get, config, job_id)
+
+    return EventSourceResponse(stream(), ping=10)
+
+
+@router.delete("/{job_id}", status_code=202, response_model=schemas.TryOn,
+               responses=schemas.ERRORS)
+def cancel_tryon(job_id: str, config: Config = Depends(deps.config)):
+    """Cancel the try-on: at once if queued, within half a second if running."""
+    row = _job(config, job_id)
+    if row.status in FINISHED:
+        raise ApiError(409, f"the try-on has already ended ({row.status})", code="finished")
+    row = jobs.cancel(config, job_id)
+    return JSONResponse(jobs.view(row), status_code=202)
+
+
+def _result_file(config: Config, storage, job_id: str, name: str):
+    row = _job(config, job_id)
+    if row.status != "done":
+        raise ApiError(409, f"the try-on is {row.status}, not done", code="not_done")
+    res = jobs.result(config, row.key)
+    path = storage.result_file(row.key, name)
+    if res is None or not path.is_file():
+        raise not_found("result for try-on", job_id)
+    return res, path
+
+
+def _not_modified(request: Request, etag: str) -> bool:
+    tags = request.headers.get("if-none-match")
+    return bool(tags) and (tags.strip() == "*" or etag in [t.strip().removeprefix("W/")
+                                                            for t in tags.split(",")])
+
+
+IMMUTABLE = "public, max-age=31536000, immutable"
+
+
+@router.get("/{job_id}/result.glb", responses={200: {"content": {"model/gltf-binary": {}}},
+                                               **schemas.ERRORS})
+def result_glb(job_id: str, request: Request,
+               compress: int = Query(1, ge=0, le=1, description="0: the plain file"),
+               config: Config = Depends(deps.config), storage=Depends(deps.storage)):
+    """The try-on as glTF: meshopt-compressed (EXT_meshopt_compression) for the web by
+    default, the plain file with ``?compress=0``. Immutable: cache it forever."""
+    name = "tryon.web.glb" if compress else "tryon.glb"
+    res, path = _result_file(config, storage, job_id, name)
+    etag = f'"{res.web_sha256 if compress else res.glb_sha256}"'
+    headers = {"ETag": etag, "Cache-Control": IMMUTABLE}
+    if _not_modified(request, etag):
+        return Response(status_code=304, headers=headers)
+    return FileResponse(path, media_type="model/gltf-binary", headers=headers,
+                        filename=f"tryon-{job_id[:8]}.glb", content_disposition_type="inline")
+
+
+@router.get("/{job_id}/preview.png", responses={200: {"content": {"image/png": {}}},
+                                                **schemas.ERRORS})
+def preview_png(job_id: str, request: Request, config: Config = Depends(deps.config),
+                storage=Depends(deps.storage)):
+    """Four moments of the walk, front and side, rendered on the CPU."""
+    res, path = _result_file(config, storage, job_id, "preview.png")
+    etag = f'"{res.glb_sha256[:32]}-preview"'
+    headers = {"ETag": etag, "Cache-Control": IMMUTABLE}
+    if _not_modified(request, etag):
+        return Response(status_code=304, headers=headers)
+    return FileResponse(path, media_type="image/png", headers=headers)

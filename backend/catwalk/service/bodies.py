@@ -1,0 +1,125 @@
+"""A shopper's body: made from measurements or from a scan, stored, deleted with all it made.
+
+The heavy part (measuring a scan, fitting the MakeHuman body: 1–3 s of CPU) runs in a process
+of the API's own pool (:class:`BodyMaker`), never on the API's event loop, and writes
+``bodies/<id>/body.glb``; the database row is added only once the files are there. A scan
+becomes a MakeHuman body fitted to the scan's measurements (``"fit": "measurements"``).
+
+A scan and its measurements are personal data: they are never logged (log lines carry the
+body's id and the outcome only), never listed, and :func:`delete_body` removes the scan, the
+body, every try-on made from it and every result no other body shares.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import concurrent.futures
+import multiprocessing
+import shutil
+from pathlib import Path
+
+from catwalk.errors import InputError
+
+# the measurements shown for a body (metres), in this order
+SHOWN = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
+         "arm_length", "upper_arm_girth", "neck_girth")
+MEASUREMENT_FIELDS = ("height", "bust", "waist", "hips")
+
+
+def shown(measured: dict) -> dict:
+    """The measurements shown for a body, rounded to the millimetre."""
+    return {k: round(float(measured[k]), 4) for k in SHOWN
+            if isinstance(measured.get(k), (int, float))}
+
+
+def infer_sex(m: dict) -> str:
+    """Female or male from a scan's shape: the bust over the underbust and the hips over the
+    waist (MakeHuman bodies XS–XXL: women ≥ 10 / 24 cm, men ≤ 8 / 14 cm)."""
+    bust_drop = float(m.get("bust", 0.0)) - float(m.get("underbust") or m.get("bust", 0.0))
+    hip_drop = float(m.get("hips", 0.0)) - float(m.get("waist", 0.0))
+    score = (bust_drop - 0.09) / 0.02 + (hip_drop - 0.19) / 0.05
+    return "female" if score > 0 else "male"
+
+
+def _write_body(body, out: Path) -> None:
+    from catwalk.exchange.gltf import write_glb
+
+    write_glb(out, body)
+
+
+def make_from_measurements(out: str, sex: str, values: dict) -> dict:
+    """(In a pool process.) Make the body, write it to ``out``; its measured girths."""
+    from catwalk.body.make import make_body
+
+    body = make_body(sex=sex, **{k: values[k] for k in MEASUREMENT_FIELDS})
+    _write_body(body, Path(out))
+    return {"model_measurements": shown(body.meta["measured"])}
+
+
+def make_from_scan(scan_path: str, out: str, sex: str | None) -> dict:
+    """(In a pool process.) Measure the scan, make a body of its measurements, write it."""
+    from catwalk.body.make import make_body
+    from catwalk.body.measure import measure_body
+    from catwalk.exchange.scan import load_scan
+
+    scan = load_scan(scan_path, name="scan")
+    try:
+        m = measure_body(scan.vertices, scan.faces, sex=sex)
+    except InputError as exc:
+        raise InputError(f"scan: not measurable as a standing human body ({exc})",
+                         "scan") from None
+    inferred = sex is None
+    sex = sex or infer_sex(m)
+    body = make_body(sex=sex, height=m["height"], bust=m["bust"], waist=m["waist"],
+                     hips=m["hips"])
+    _write_body(body, Path(out))
+    return {"sex": sex, "sex_inferred": inferred, "measurements": shown(m),
+            "model_measurements": shown(body.meta["measured"]),
+            "scan": {"units": scan.units, "up_axis": scan.up, "forward_axis": scan.forward,
+                     "vertices": int(len(scan.vertices)), "faces": int(len(scan.faces)),
+                     "holes": scan.holes}}
+
+
+def _warm() -> bool:
+    import catwalk.body.make  # noqa: F401  (imports numpy, scipy, numba's kernels)
+    import catwalk.body.measure  # noqa: F401
+    from catwalk.body.rig import measured_base_body
+
+    measured_base_body(0.0)
+    return True
+
+
+class BodyMaker:
+    """The API's pool of body-making processes (spawned, so they hold no API state)."""
+
+    def __init__(self, processes: int = 1):
+        self.processes = max(1, processes)
+        self._pool: concurrent.futures.ProcessPoolExecutor | None = None
+
+    def _get(self) -> concurrent.futures.ProcessPoolExecutor:
+        if self._pool is None:
+            self._pool = concurrent.futures.ProcessPoolExecutor(
+                self.processes, mp_context=multiprocessing.get_context("spawn"))
+        return self._pool
+
+    def warm(self) -> None:
+        """Load the body kernels in the pool now (in the background)."""
+        self._get().submit(_warm)
+
+    async def run(self, fn, *args, timeout: float):
+        loop = asyncio.get_running_loop()
+        fut = self._get().submit(fn, *args)
+        try:
+            return await asyncio.wait_for(asyncio.wrap_future(fut, loop=loop), timeout)
+        except concurrent.futures.process.BrokenProcessPool:
+            self._pool = None    # the next body gets a fresh pool
+            raise
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            self._pool = None
+
+
+def remove_tree(path: Path) -> None:
+    shutil.rmtree(path, ignore_errors=True)

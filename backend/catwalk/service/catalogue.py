@@ -1,0 +1,95 @@
+"""The catalogue the service shows: the garments in ``CATWALK_CATALOGUE_DIR``.
+
+Each garment's id is its file's stem; its version is the hash of the file and of the texture
+images it names, so an edited garment gets a new version (and new cached results). The list
+is read once and read again when a file in the folder changes.
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from catwalk.config import Config
+from catwalk.errors import InputError
+from catwalk.garment.model import Garment
+from catwalk.service.keys import sha256
+
+
+@dataclass
+class Entry:
+    id: str
+    version: str
+    path: Path
+    garment: Garment
+    fabric: str
+    fabrics: list[str] = field(default_factory=list)
+
+    def summary(self) -> dict:
+        g = self.garment
+        return {"id": self.id, "name": g.name, "type": g.type, "sizes": list(g.sizes),
+                "default_size": g.size(None), "fabric": self.fabric,
+                "fabrics": self.fabrics, "version": self.version,
+                "thumbnail_url": f"/api/garments/{self.id}/thumbnail.png"}
+
+    def detail(self) -> dict:
+        g = self.garment
+        return {**self.summary(), "description": g.description,
+                "panels": [{"name": p.name, "type": p.type} for p in g.panels],
+                "seams": len(g.seams), "fit": dict(g.fit), "source": dict(g.source)}
+
+
+def fabric_choices() -> list[str]:
+    """Every fabric a shopper may pick: the presets, then the measured (Petrak) fabrics."""
+    from catwalk.cloth.fabrics import PRESETS, load_petrak
+
+    return list(PRESETS) + sorted(load_petrak())
+
+
+def garment_version(path: Path, garment: Garment) -> str:
+    """The hash of the garment file and the texture images it names."""
+    parts = [sha256(path.read_bytes())]
+    for p in garment.panels:
+        if p.texture is not None:
+            img = path.parent / str(p.texture["image"])
+            parts.append(sha256(img.read_bytes()) if img.is_file() else "missing")
+    return sha256("\n".join(parts).encode())[:32]
+
+
+class Catalogue:
+    def __init__(self, config: Config):
+        self.root = config.catalogue_dir
+        self._lock = threading.Lock()
+        self._stamp: tuple | None = None
+        self._entries: dict[str, Entry] = {}
+
+    def _current_stamp(self) -> tuple:
+        files = sorted(self.root.glob("*.json")) + sorted((self.root / "textures").glob("*"))
+        return tuple((f.name, f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+
+    def _load(self) -> dict[str, Entry]:
+        from catwalk.exchange.garment_json import load_garment
+        from catwalk.garment.catalogue import catalogue_files
+
+        fabrics = fabric_choices()
+        out = {}
+        for path in catalogue_files(self.root):
+            g = load_garment(path)
+            own = g.fabric if isinstance(g.fabric, str) else "custom"
+            out[path.stem] = Entry(path.stem, garment_version(path, g), path, g, own,
+                                   [own] + [f for f in fabrics if f != own])
+        return out
+
+    def entries(self) -> dict[str, Entry]:
+        stamp = self._current_stamp()
+        with self._lock:
+            if stamp != self._stamp:
+                self._entries, self._stamp = self._load(), stamp
+            return self._entries
+
+    def get(self, garment_id: str) -> Entry:
+        entry = self.entries().get(garment_id)
+        if entry is None:
+            raise InputError(f"no garment {garment_id!r} in the catalogue", "garment_id")
+        return entry

@@ -1,0 +1,82 @@
+"""``catwalk serve``, ``catwalk worker``, ``catwalk demo`` and ``catwalk bench service``."""
+
+from __future__ import annotations
+
+from catwalk.errors import InputError
+
+
+def _serve(args) -> int:
+    from catwalk.service.serve import main
+
+    if not 0 < args.port < 65536:
+        raise InputError(f"--port must be 1–65535, got {args.port}")
+    if args.workers is not None and args.workers < 0:
+        raise InputError(f"--workers must be ≥ 0, got {args.workers}")
+    return main(args.host, args.port, args.workers)
+
+
+def _worker(args) -> int:
+    from catwalk.service.worker import main
+
+    if args.concurrency is not None and args.concurrency < 1:
+        raise InputError(f"--concurrency must be ≥ 1, got {args.concurrency}")
+    return main(args.concurrency, args.loglevel)
+
+
+def _demo(args) -> int:
+    from catwalk.service.demo import main
+
+    return main(args)
+
+
+def _bench_service(args) -> int:
+    from catwalk.bench.service import main
+
+    return main(args)
+
+
+def register(top, groups) -> None:
+    p = top.add_parser("serve", help="the service: the API and local workers on this machine",
+                       description="Run the HTTP API (and, unless --workers 0, a worker "
+                       "process). With no CATWALK_DATABASE_URL / CATWALK_BROKER_URL set: "
+                       "SQLite and a filesystem broker in CATWALK_STORAGE_DIR.")
+    p.add_argument("--host", default="127.0.0.1", help="address to listen on (127.0.0.1)")
+    p.add_argument("--port", type=int, default=8000, help="port (8000)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="try-ons run at once by the local worker (default: CATWALK_WORKERS, "
+                        "the number of cores; 0: no local worker)")
+    p.set_defaults(func=_serve)
+
+    p = top.add_parser("worker", help="run try-on jobs from the queue",
+                       description="Consume try-on jobs from the broker (CATWALK_BROKER_URL) "
+                       "and store results in CATWALK_STORAGE_DIR; any number of these may run "
+                       "on any number of machines.")
+    p.add_argument("--concurrency", type=int, default=None,
+                   help="jobs at once (processes; default CATWALK_WORKERS, the cores)")
+    p.add_argument("--loglevel", default=None, help="DEBUG, INFO (default), WARNING")
+    p.set_defaults(func=_worker)
+
+    p = top.add_parser("demo", help="start the service and run the sample try-on through its "
+                                    "API (what `make demo` does)")
+    p.add_argument("--url", default=None,
+                   help="use a service already running there instead of starting one")
+    p.add_argument("--port", type=int, default=8000)
+    p.add_argument("--out-dir", default="demo", help="where tryon.glb, tryon.png and "
+                                                     "metrics.json go (demo/)")
+    p.add_argument("--garment", default="dress", help="catalogue garment id (dress)")
+    p.add_argument("--size", default="M")
+    p.add_argument("--seconds", type=float, default=4.0)
+    p.add_argument("--preset", default="balanced", choices=["fast", "balanced", "accurate"])
+    p.add_argument("--exit", action="store_true",
+                   help="stop once the try-on is written (also DEMO_EXIT=1)")
+    p.set_defaults(func=_demo)
+
+    p = groups["bench"].add_parser(
+        "service", help="try-ons through the HTTP API: per minute, latency, overhead against "
+                        "the library, a cached answer's latency")
+    p.add_argument("--tryons", type=int, default=4, help="concurrent fast try-ons (4)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="worker processes of the service under test (default: the cores)")
+    p.add_argument("--seconds", type=float, default=2.0, help="walk length of each (2)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_bench_service)

@@ -1,0 +1,88 @@
+"""The service's tables (SQLAlchemy ORM). The database is the source of truth for every job.
+
+- ``bodies``: a shopper's body: where it came from (a scan or measurements), its measurements
+  (personal data: never logged, never listed, deleted with the body) and the content key that
+  makes two identical uploads share cached results.
+- ``tryons``: one try-on asked for by a shopper: what (body, garment and version, size,
+  fabric, seconds, preset), its state (``queued`` → ``running`` → ``done`` | ``failed`` |
+  ``cancelled``), progress, and the worker's heartbeat; ``key`` is the content key of the
+  result it makes.
+- ``results``: a finished result, stored exactly once per content key (the files under
+  ``results/<key>/`` in the storage are written first, then this row).
+
+Schema changes go through Alembic (``service/migrations``), from the first table on.
+"""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+
+from sqlalchemy import JSON, Boolean, DateTime, Float, ForeignKey, Index, Integer, String, Text
+from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
+
+STATES = ("queued", "running", "done", "failed", "cancelled")
+ACTIVE = ("queued", "running")
+FINISHED = ("done", "failed", "cancelled")
+
+
+def utcnow() -> datetime:
+    return datetime.now(UTC).replace(tzinfo=None)
+
+
+class Base(DeclarativeBase):
+    pass
+
+
+class BodyRow(Base):
+    __tablename__ = "bodies"
+
+    id: Mapped[str] = mapped_column(String(43), primary_key=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    source: Mapped[str] = mapped_column(String(16))           # scan | measurements
+    fit: Mapped[str] = mapped_column(String(16))              # how the body was made
+    content_key: Mapped[str] = mapped_column(String(64))      # sha256 of what it came from
+    sex: Mapped[str] = mapped_column(String(8))
+    measurements: Mapped[dict] = mapped_column(JSON)          # the person's
+    model_measurements: Mapped[dict] = mapped_column(JSON)    # the made body's
+    scan_format: Mapped[str | None] = mapped_column(String(8), nullable=True)
+
+
+class TryOnRow(Base):
+    __tablename__ = "tryons"
+    __table_args__ = (Index("ix_tryons_status", "status"), Index("ix_tryons_key", "key"),
+                      Index("ix_tryons_body", "body_id"))
+
+    id: Mapped[str] = mapped_column(String(43), primary_key=True)
+    key: Mapped[str] = mapped_column(String(64))
+    body_id: Mapped[str] = mapped_column(ForeignKey("bodies.id", ondelete="CASCADE"))
+    garment_id: Mapped[str] = mapped_column(String(128))
+    garment_version: Mapped[str] = mapped_column(String(64))
+    size: Mapped[str] = mapped_column(String(32))
+    fabric: Mapped[str | None] = mapped_column(String(64), nullable=True)
+    seconds: Mapped[float] = mapped_column(Float)
+    preset: Mapped[str] = mapped_column(String(16))
+    status: Mapped[str] = mapped_column(String(16), default="queued")
+    progress: Mapped[float] = mapped_column(Float, default=0.0)
+    stage: Mapped[str] = mapped_column(String(32), default="queued")
+    error: Mapped[str | None] = mapped_column(Text, nullable=True)
+    cached: Mapped[bool] = mapped_column(Boolean, default=False)
+    cancel_requested: Mapped[bool] = mapped_column(Boolean, default=False)
+    attempts: Mapped[int] = mapped_column(Integer, default=0)
+    worker: Mapped[str | None] = mapped_column(String(255), nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    enqueued_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    started_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+    heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+    finished_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+
+
+class ResultRow(Base):
+    __tablename__ = "results"
+
+    key: Mapped[str] = mapped_column(String(64), primary_key=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    metrics: Mapped[dict] = mapped_column(JSON)
+    glb_bytes: Mapped[int] = mapped_column(Integer)
+    web_bytes: Mapped[int] = mapped_column(Integer)
+    glb_sha256: Mapped[str] = mapped_column(String(64))
+    web_sha256: Mapped[str] = mapped_column(String(64))

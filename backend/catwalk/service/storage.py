@@ -1,0 +1,103 @@
+"""Blobs on disk, in the storage folder every API and worker process shares.
+
+Layout under ``CATWALK_STORAGE_DIR``::
+
+    bodies/<body id>/scan.<ext>        the shopper's scan as uploaded (personal data)
+    bodies/<body id>/body.glb          the rigged body made from it
+    results/<key>/tryon.glb            a finished try-on, plain
+    results/<key>/tryon.web.glb        the same, meshopt-compressed for the browser
+    results/<key>/preview.png          frames of it, rendered on the CPU
+    results/<key>/metrics.json
+    thumbnails/<garment id>/<version>.png
+    samples/<name>.glb                 sample bodies (thumbnails are dressed on them)
+
+Nothing half-written is ever visible: a file is written to a temporary name beside it and
+renamed; a result folder is filled under a temporary name and renamed into place whole (the
+first one to arrive stays: a result is stored exactly once).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from catwalk.fileio import atomic_path
+
+RESULT_FILES = ("tryon.glb", "tryon.web.glb", "preview.png", "metrics.json")
+
+
+class Storage:
+    def __init__(self, root: str | Path):
+        self.root = Path(root)
+
+    # -- places
+    def body_dir(self, body_id: str) -> Path:
+        return self.root / "bodies" / body_id
+
+    def body_glb(self, body_id: str) -> Path:
+        return self.body_dir(body_id) / "body.glb"
+
+    def scan_path(self, body_id: str, fmt: str) -> Path:
+        return self.body_dir(body_id) / f"scan.{fmt}"
+
+    def result_dir(self, key: str) -> Path:
+        return self.root / "results" / key
+
+    def result_file(self, key: str, name: str) -> Path:
+        return self.result_dir(key) / name
+
+    def thumbnail(self, garment_id: str, version: str) -> Path:
+        return self.root / "thumbnails" / garment_id / f"{version}.png"
+
+    def samples_dir(self) -> Path:
+        return self.root / "samples"
+
+    # -- writing
+    def write(self, path: Path, data: bytes) -> Path:
+        """Write ``data`` to ``path`` atomically (folders made as needed)."""
+        with atomic_path(path) as tmp:
+            tmp.write_bytes(data)
+        return path
+
+    def store_result(self, key: str, files: dict[str, bytes]) -> bool:
+        """Put the result ``files`` in ``results/<key>/`` whole. Returns False (and stores
+        nothing) when the key already has a stored result."""
+        final = self.result_dir(key)
+        if (final / RESULT_FILES[0]).is_file():
+            return False
+        final.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=final.parent))
+        try:
+            for name, data in files.items():
+                (tmp / name).write_bytes(data)
+                os.chmod(tmp / name, 0o644)
+            os.chmod(tmp, 0o755)
+            try:
+                os.rename(tmp, final)        # fails if another copy got there first
+            except OSError:
+                if (final / RESULT_FILES[0]).is_file():
+                    return False
+                shutil.rmtree(final, ignore_errors=True)   # an empty or broken leftover
+                os.rename(tmp, final)
+            return True
+        finally:
+            if tmp.exists():
+                shutil.rmtree(tmp, ignore_errors=True)
+
+    # -- removing
+    def remove_result(self, key: str) -> None:
+        shutil.rmtree(self.result_dir(key), ignore_errors=True)
+
+    def remove_body(self, body_id: str) -> None:
+        shutil.rmtree(self.body_dir(body_id), ignore_errors=True)
+
+    def check(self) -> None:
+        """Raise OSError if the storage folder cannot be written."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=".ready-", dir=self.root)
+        os.close(fd)
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(name)

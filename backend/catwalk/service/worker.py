@@ -1,0 +1,265 @@
+"""The worker: runs try-on jobs from the queue (``catwalk worker [--concurrency N]``).
+
+One task, :data:`~catwalk.service.queue.TASK`, for every deployment. A job:
+
+1. is claimed in the database (:func:`catwalk.service.jobs.claim`): a duplicate message, or one
+   for a job that ended or was cancelled, does nothing;
+2. runs ``catwalk.tryon`` with a heartbeat thread that writes the progress (one fraction, the
+   stage) every 0.25 s and reads back whether the job was cancelled, deleted or taken over —
+   the simulation then stops within half a second;
+3. writes its files (the .glb, its meshopt copy for the web, a preview sheet, the metrics) into
+   ``results/<key>/`` whole, then marks the job done and adds the result's row: a result is
+   stored exactly once, and nothing half-written is ever served.
+
+The numba kernels are loaded once, in the worker's main process before the pool forks (a small
+try-on at start), so no job pays for them.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import logging
+import os
+import socket
+import threading
+import time
+import traceback
+
+from catwalk.config import Config, get_config
+from catwalk.errors import Cancelled, CatwalkError, InputError, SimulationError
+from catwalk.service import jobs
+from catwalk.service.catalogue import Catalogue
+from catwalk.service.keys import sha256
+from catwalk.service.storage import Storage
+
+log = logging.getLogger("catwalk.worker")
+
+PREVIEW_TIMES = (0.2, 0.4, 0.6, 0.8)    # fractions of the walk
+PREVIEW_SIZE = (360, 540)
+BEAT_S = 0.25
+# extra stages after the simulation, in the units of catwalk.simulate.progress.tryon_plan
+COMPRESS_WEIGHT = 25.0
+PREVIEW_WEIGHT = 40.0
+
+
+def worker_name() -> str:
+    return f"{socket.gethostname()}:{os.getpid()}"
+
+
+class Beat(threading.Thread):
+    """The job's heartbeat: progress out to the database, cancellation back in."""
+
+    def __init__(self, config: Config, job_id: str, attempt: int):
+        super().__init__(name=f"beat-{job_id[:8]}", daemon=True)
+        self.config, self.job_id, self.attempt = config, job_id, attempt
+        self.fraction, self.stage = 0.0, "starting"
+        self.stop_asked = threading.Event()     # the job was cancelled, deleted, taken over
+        self._done = threading.Event()
+
+    def report(self, fraction: float, stage: str) -> None:
+        self.fraction, self.stage = fraction, stage
+
+    def cancelled(self) -> bool:
+        return self.stop_asked.is_set()
+
+    def run(self) -> None:
+        while not self._done.wait(BEAT_S):
+            try:
+                if not jobs.heartbeat(self.config, self.job_id, self.attempt, self.fraction,
+                                      self.stage):
+                    self.stop_asked.set()
+            except Exception as exc:   # the database is away: keep simulating, try again
+                log.warning(json.dumps({"event": "heartbeat_failed", "job": self.job_id,
+                                        "error": type(exc).__name__}))
+
+    def finish(self) -> None:
+        self._done.set()
+        self.join(timeout=5)
+
+
+def register_tasks(app, config: Config) -> None:
+    from catwalk.service.queue import TASK
+
+    @app.task(name=TASK, acks_late=True, reject_on_worker_lost=True, ignore_result=True)
+    def run_tryon(job_id: str) -> str:
+        return run_job(config, job_id)
+
+
+def run_job(config: Config, job_id: str) -> str:
+    """Run one job if it is this worker's to run; returns how it ended."""
+    row = jobs.claim(config, job_id, worker_name())
+    if row is None:
+        log.info(json.dumps({"event": "skipped", "job": job_id}))
+        return "skipped"
+    log.info(json.dumps({"event": "started", "job": job_id, "attempt": row.attempts,
+                         "garment": row.garment_id, "size": row.size, "preset": row.preset}))
+    beat = Beat(config, job_id, row.attempts)
+    beat.start()
+    t0 = time.perf_counter()
+    try:
+        outcome = _execute(config, row, beat)
+    except Cancelled:
+        jobs.end(config, job_id, row.attempts, "cancelled", "cancelled")
+        outcome = "cancelled"
+    except (InputError, SimulationError) as exc:
+        jobs.end(config, job_id, row.attempts, "failed", str(exc))
+        outcome = "failed"
+    except CatwalkError as exc:
+        jobs.end(config, job_id, row.attempts, "failed", f"the service could not run it: {exc}")
+        outcome = "failed"
+    except Exception as exc:
+        from celery.exceptions import SoftTimeLimitExceeded
+
+        if isinstance(exc, SoftTimeLimitExceeded):
+            reason = f"over the {config.job_time_limit_s:g} s time limit"
+        else:
+            log.error(json.dumps({"event": "crashed", "job": job_id,
+                                  "trace": traceback.format_exc()[-4000:]}))
+            reason = f"internal error ({type(exc).__name__}); the job was not finished"
+        jobs.end(config, job_id, row.attempts, "failed", reason)
+        outcome = "failed"
+    finally:
+        beat.finish()
+    log.info(json.dumps({"event": outcome, "job": job_id,
+                         "seconds": round(time.perf_counter() - t0, 3)}))
+    return outcome
+
+
+def _execute(config: Config, row, beat: Beat) -> str:
+    import catwalk
+    from catwalk.exchange.compress import compress_bytes
+    from catwalk.exchange.gltf import read_body
+    from catwalk.simulate.progress import Progress, export_weight, tryon_plan
+    from catwalk.simulate.settings import preset
+    from catwalk.simulate.walking import blend_frame_count
+
+    storage = Storage(config.storage_dir)
+    entry = Catalogue(config).get(row.garment_id)
+    if entry.version != row.garment_version:
+        raise InputError(f"garment {row.garment_id!r} has changed since this try-on was asked "
+                         "for; ask for it again", "garment_id")
+    body_path = storage.body_glb(row.body_id)
+    if not body_path.is_file():
+        raise InputError("the body has been deleted", "body_id")
+    settings = preset(row.preset)
+    frames = int(round(row.seconds * 30.0))
+    plan = tryon_plan(settings, frames, blend_frame_count(settings, 30.0), True,
+                      extra=[("exporting", export_weight(frames)),
+                             ("compressing", COMPRESS_WEIGHT), ("preview", PREVIEW_WEIGHT)])
+    progress = Progress(plan, beat.report, beat.cancelled)
+    res = catwalk.tryon(read_body(body_path), entry.garment, size=row.size, fabric=row.fabric,
+                        seconds=row.seconds, preset=row.preset, garment_id=row.garment_id,
+                        progress=progress)
+    progress.enter("exporting")
+    glb = res.glb()
+    progress.enter("compressing")
+    web, compression = compress_bytes(glb, cancel=progress.cancelled)
+    progress.enter("preview")
+    png = preview_png(res, progress.cancelled)
+    progress.check()
+    metrics = dict(res.metrics, compression=compression)
+    files = {"tryon.glb": glb, "tryon.web.glb": web, "preview.png": png,
+             "metrics.json": (json.dumps(metrics, indent=2) + "\n").encode()}
+    stored = storage.store_result(row.key, files)
+    sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
+             "web_sha256": sha256(web)}
+    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes):
+        # cancelled, deleted (its body too) or taken over meanwhile
+        if stored and jobs.result(config, row.key) is None and \
+                not jobs.result_in_use(config, row.key):
+            storage.remove_result(row.key)
+        raise Cancelled("the job was cancelled or taken over while it was being stored")
+    return "done"
+
+
+def preview_png(res, cancel=None) -> bytes:
+    """A contact sheet of the try-on: four moments of the walk, front and side (the sheet
+    ``catwalk render`` draws)."""
+    from PIL import Image
+
+    from catwalk.exchange.scene import scene_of
+    from catwalk.render.commands import render_sheet
+
+    if cancel is not None and cancel():
+        raise Cancelled("try-on cancelled")
+    scene = scene_of(res.body, res.motion, [res.frames()])
+    # on recorded frames: between two the garment holds its frame (STEP) while the body moves
+    fps = res.motion.fps if res.motion is not None else 30.0
+    frames = scene.garments[0].frames
+    times = [round(f * (frames - 1)) / fps for f in PREVIEW_TIMES] if frames > 1 else [0.0]
+    image = render_sheet(scene, times, ["front", "side"], PREVIEW_SIZE)
+    buf = io.BytesIO()
+    Image.fromarray(image).save(buf, format="PNG")
+    return buf.getvalue()
+
+
+# ------------------------------------------------------------------------------ starting
+
+def warm_up() -> float:
+    """Load every kernel a try-on uses (a small one, 0.3 s of walk); returns the seconds."""
+    import catwalk
+    from catwalk.body.rig import measured_base_body
+    from catwalk.exchange.garment_json import load_garment
+    from catwalk.exchange.scene import scene_of
+    from catwalk.garment.catalogue import catalogue_dir
+
+    t0 = time.perf_counter()
+    skirt = catalogue_dir() / "pencil-skirt.json"
+    if not skirt.is_file():
+        return 0.0
+    res = catwalk.tryon(measured_base_body(0.0), load_garment(skirt), preset="fast", h=0.04,
+                        seconds=0.3)
+    res.glb()
+    scene_of(res.body, res.motion, [res.frames()]).meshes_at(0.0)
+    preview_png(res)
+    return time.perf_counter() - t0
+
+
+class Recovery(threading.Thread):
+    """Runs :func:`catwalk.service.jobs.recover` every few seconds (in the API and in every
+    worker's main process: their updates are conditional, so several never clash)."""
+
+    def __init__(self, config: Config, every_s: float = 2.0):
+        super().__init__(name="recovery", daemon=True)
+        self.config, self.every_s = config, every_s
+        self.stop = threading.Event()
+
+    def run(self) -> None:
+        from catwalk.service.queue import queued_messages, send
+
+        while not self.stop.wait(self.every_s):
+            try:
+                did = jobs.recover(self.config, lambda j: send(self.config, j),
+                                   lambda: queued_messages(self.config))
+                if any(did.values()):
+                    log.info(json.dumps({"event": "recovered", **did}))
+            except Exception as exc:
+                log.warning(json.dumps({"event": "recovery_failed",
+                                        "error": f"{type(exc).__name__}: {exc}"[:300]}))
+
+
+def main(concurrency: int | None = None, loglevel: str | None = None) -> int:
+    """``catwalk worker``: migrate, load the kernels, then consume jobs until stopped."""
+    from catwalk.service import db, logs
+    from catwalk.service.queue import celery_app
+
+    config = get_config()
+    logs.configure(loglevel or config.log_level)
+    db.migrate(config)
+    Storage(config.storage_dir).check()
+    n = concurrency or max(1, config.workers)
+    log.info(json.dumps({"event": "warming_up", "worker": worker_name()}))
+    log.info(json.dumps({"event": "ready", "worker": worker_name(), "concurrency": n,
+                         "warm_up_s": round(warm_up(), 2), "queue": config.queue}))
+    from celery.signals import worker_ready
+
+    # after the pool has forked: no thread of ours runs while a child process is made
+    worker_ready.connect(lambda **_: Recovery(config).start(), weak=False)
+    app = celery_app(config)
+    argv = ["worker", f"--concurrency={n}", f"--queues={config.queue}", "--pool=prefork",
+            f"--loglevel={(loglevel or config.log_level).upper()}", "--without-gossip",
+            "--without-mingle", "--without-heartbeat", "-O", "fair",
+            f"--hostname=catwalk-{os.getpid()}@{socket.gethostname()}"]
+    app.worker_main(argv)
+    return 0

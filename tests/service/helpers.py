@@ -1,0 +1,122 @@
+"""Helpers for the service's tests: processes, settings, URLs (the fixtures: conftest.py)."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+REDIS_URL = os.environ.get("CATWALK_TEST_REDIS_URL", "redis://127.0.0.1:6379/15")
+DB_URL = os.environ.get("CATWALK_TEST_DATABASE_URL",
+                        "postgresql+psycopg://postgres@127.0.0.1:5432/postgres")
+SKIRT = {"garment_id": "pencil-skirt", "preset": "fast", "seconds": 1.0}
+MEASURES = {"sex": "female", "height": 1.68, "bust": 0.90, "waist": 0.72, "hips": 0.98}
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def service_env(storage: Path, catalogue: Path, **extra) -> dict[str, str]:
+    """The environment of a service process: this storage and catalogue, short recovery
+    times, and ``extra`` as ``CATWALK_<KEY>``."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("CATWALK_")
+           or k in ("CATWALK_DATA_DIR", "CATWALK_DATA")}
+    env.update({"CATWALK_STORAGE_DIR": str(storage), "CATWALK_CATALOGUE_DIR": str(catalogue),
+                "CATWALK_JOB_STALE_S": "4", "CATWALK_REQUEUE_AFTER_S": "5",
+                "CATWALK_WORKERS": "1", "PYTHONUNBUFFERED": "1"})
+    env.update({f"CATWALK_{k.upper()}": str(v) for k, v in extra.items()})
+    return env
+
+
+def make_config(env: dict[str, str]):
+    """The Config a process started with ``env`` reads."""
+    from catwalk.config import Config
+
+    fields = {k[len("CATWALK_"):].lower(): v for k, v in env.items()
+              if k.startswith("CATWALK_") and k not in ("CATWALK_DATA", "CATWALK_DATA_DIR")}
+    return Config(**fields)
+
+
+class Proc:
+    """A ``catwalk`` subprocess in its own process group, its output in a log file."""
+
+    def __init__(self, args: list[str], env: dict[str, str], log: Path):
+        self.args, self.log = args, log
+        self.out = open(log, "wb")
+        self.p = subprocess.Popen([sys.executable, "-m", "catwalk.cli", *args], env=env,
+                                  stdout=self.out, stderr=subprocess.STDOUT,
+                                  start_new_session=True, cwd=REPO)
+
+    @property
+    def pid(self) -> int:
+        return self.p.pid
+
+    def text(self) -> str:
+        return self.log.read_text(errors="replace")
+
+    def wait_for(self, needle: str, timeout: float = 180.0) -> None:
+        t0 = time.monotonic()
+        while needle not in self.text():
+            if self.p.poll() is not None:
+                raise AssertionError(f"catwalk {' '.join(self.args)} exited "
+                                     f"({self.p.returncode}):\n{self.text()[-3000:]}")
+            if time.monotonic() - t0 > timeout:
+                raise AssertionError(f"no {needle!r} from catwalk {' '.join(self.args)} in "
+                                     f"{timeout:g} s:\n{self.text()[-3000:]}")
+            time.sleep(0.2)
+
+    def kill(self, sig=signal.SIGKILL) -> None:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.p.pid, sig)
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            self.p.wait(30)
+
+    def stop(self) -> None:
+        if self.p.poll() is None:
+            self.p.send_signal(signal.SIGTERM if self.args[0] == "worker" else signal.SIGINT)
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                self.p.wait(30)
+        self.kill()
+        self.out.close()
+
+
+def start_worker(procs, env, name="worker", concurrency=1) -> Proc:
+    w = procs(["worker", f"--concurrency={concurrency}"], env, name)
+    w.wait_for("ready.", timeout=300)   # Celery's "…@host ready." after catwalk's warm-up
+    return w
+
+
+def storage_files(root: Path) -> list[Path]:
+    return [p for p in root.rglob("*") if p.is_file()]
+
+
+def wait_job(client, job_id: str, until=("done", "failed", "cancelled"),
+             timeout: float = 300.0) -> dict:
+    """Poll ``GET /api/tryons/{id}`` (any httpx-like client) until its status is in
+    ``until``."""
+    t0 = time.monotonic()
+    while True:
+        job = client.get(f"/api/tryons/{job_id}").json()
+        if job["status"] in until:
+            return job
+        assert time.monotonic() - t0 < timeout, job
+        time.sleep(0.1)
+
+
+def library_glb(client, body_id: str, catalogue: Path, garment_id: str = "pencil-skirt",
+                **options) -> bytes:
+    """The same try-on through ``catwalk.tryon`` in this process, on the service's body."""
+    import catwalk
+
+    body = client.get(f"/api/bodies/{body_id}/body.glb").content
+    return catwalk.tryon(body, catalogue / f"{garment_id}.json", garment_id=garment_id,
+                         **options).glb()

@@ -1,0 +1,214 @@
+"""The API in-process (FastAPI's TestClient, the embedded default: SQLite and the filesystem
+broker in a temporary storage folder): the catalogue, bodies, and every bad input answered
+with its 4xx and a JSON error naming what is wrong — never a 500, never a traceback."""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+import pytest
+from fastapi.testclient import TestClient
+
+from .helpers import MEASURES, make_config, service_env, storage_files
+
+
+@pytest.fixture(scope="module")
+def storage(tmp_path_factory):
+    return tmp_path_factory.mktemp("storage")
+
+
+@pytest.fixture(scope="module")
+def client(storage, catalogue_dir):
+    from catwalk.service.api.app import create_app
+
+    config = make_config(service_env(storage, catalogue_dir, upload_max_bytes=3_000_000))
+    with TestClient(create_app(config), raise_server_exceptions=False) as c:
+        yield c
+
+
+@pytest.fixture(scope="module")
+def body(client):
+    r = client.post("/api/bodies", json=MEASURES)
+    assert r.status_code == 201, r.text
+    return r.json()
+
+
+def _error(r, status, field=None, code=None):
+    assert r.status_code == status, (r.status_code, r.text)
+    assert r.headers["content-type"].startswith("application/json")
+    err = r.json()["error"]
+    assert err["message"] and "Traceback" not in err["message"]
+    if field is not None:
+        assert err.get("field") == field, err
+    if code is not None:
+        assert err["code"] == code, err
+    return err
+
+
+def test_health_ready_and_openapi(client):
+    assert client.get("/healthz").json() == {"status": "ok"}
+    ready = client.get("/readyz")
+    assert ready.status_code == 200, ready.text
+    assert all(c["ok"] for c in ready.json()["checks"].values())
+    spec = client.get("/openapi.json").json()
+    for path in ("/api/garments", "/api/garments/{garment_id}", "/api/bodies",
+                 "/api/bodies/{body_id}", "/api/tryons", "/api/tryons/{job_id}",
+                 "/api/tryons/{job_id}/events", "/api/tryons/{job_id}/result.glb"):
+        assert path in spec["paths"], path
+    assert "multipart/form-data" in \
+        spec["paths"]["/api/bodies"]["post"]["requestBody"]["content"]
+    assert client.get("/docs").status_code == 200
+
+
+def test_catalogue(client):
+    garments = client.get("/api/garments").json()["garments"]
+    assert [g["id"] for g in garments] == ["pencil-skirt"]
+    g = garments[0]
+    for key in ("id", "name", "type", "sizes", "default_size", "fabric", "fabrics",
+                "thumbnail_url"):
+        assert key in g, key
+    assert g["fabric"] in g["fabrics"] and g["default_size"] in g["sizes"]
+    assert client.get("/api/garments", params={"type": "dress"}).json()["garments"] == []
+    one = client.get("/api/garments/pencil-skirt").json()
+    assert one["panels"] and one["version"] == g["version"]
+    png = client.get(g["thumbnail_url"])
+    assert png.status_code == 200 and png.content[:8] == b"\x89PNG\r\n\x1a\n"
+    pattern = client.get("/api/garments/pencil-skirt/pattern.png", params={"size": "S"})
+    assert pattern.status_code == 200 and pattern.content[:4] == b"\x89PNG"
+    _error(client.get("/api/garments/ballgown"), 404, "garment_id")
+    _error(client.get("/api/garments/pencil-skirt/pattern.png", params={"size": "XXL"}),
+           422, "size")
+
+
+def test_body_from_measurements(client, body, storage):
+    assert body["source"] == "measurements" and body["fit"] == "measurements"
+    assert len(body["id"]) >= 32                       # unguessable
+    assert body["measurements"]["bust"] == MEASURES["bust"]
+    made = body["model_measurements"]
+    for k in ("height", "bust", "waist", "hips"):
+        assert abs(made[k] - MEASURES[k]) < 0.01, (k, made[k])
+    again = client.get(f"/api/bodies/{body['id']}").json()
+    assert again["model_measurements"] == made
+    glb = client.get(body["body_url"])
+    assert glb.status_code == 200 and glb.content[:4] == b"glTF"
+    # bodies are never listed
+    assert client.get("/api/bodies").status_code in (404, 405)
+
+
+@pytest.mark.parametrize("payload, status, field", [
+    ({**MEASURES, "height": 3.0}, 422, "height"),
+    ({**MEASURES, "bust": -1}, 422, "bust"),
+    ({**MEASURES, "sex": "other"}, 422, "sex"),
+    ({k: v for k, v in MEASURES.items() if k != "hips"}, 422, "hips"),
+    ({**MEASURES, "shoe": 42}, 422, "shoe"),
+    ({**MEASURES, "waist": 1.20, "bust": 0.80}, 422, "waist"),   # not a body the model makes
+])
+def test_bad_measurements(client, payload, status, field):
+    _error(client.post("/api/bodies", json=payload), status, field)
+
+
+def test_bad_body_requests(client):
+    _error(client.post("/api/bodies", content=b"{not json",
+                       headers={"content-type": "application/json"}), 400)
+    _error(client.post("/api/bodies", content=b"sex=female",
+                       headers={"content-type": "text/plain"}), 415)
+    _error(client.post("/api/bodies", files={"other": ("x.obj", b"v 0 0 0\n")}), 422, "scan")
+    _error(client.post("/api/bodies", files={"scan": ("body.fbx", b"Kaydara FBX")}), 415,
+           "scan")
+    _error(client.post("/api/bodies", files={"scan": ("body.obj", b"")}), 422, "scan")
+    _error(client.post("/api/bodies", files={"scan": ("body.obj", b"v 1 2 3\nv oops\n")}),
+           422, "scan")
+    _error(client.post("/api/bodies", files={"scan": ("body.obj", b"v 0 0 0\n")},
+                       data={"sex": "robot"}), 422, "sex")
+    _error(client.get("/api/bodies/nope"), 404, "body_id")
+    _error(client.delete("/api/bodies/nope"), 404, "body_id")
+    _error(client.get("/api/bodies/nope/body.glb"), 404)
+
+
+def test_a_scan_that_is_not_a_person_says_so(client):
+    import trimesh
+
+    box = trimesh.creation.box((0.5, 1.8, 0.3))
+    err = _error(client.post("/api/bodies", files={"scan": ("box.stl",
+                                                            box.export(file_type="stl"))}),
+                 422, "scan")
+    assert "body" in err["message"] or "human" in err["message"], err
+
+
+def test_an_upload_over_the_limit_is_refused_unread(client, storage):
+    before = set(storage_files(storage))
+    big = b"v 0 0 0\n" * 500_000            # 4 MB, the limit is 3 MB
+    err = _error(client.post("/api/bodies", files={"scan": ("big.obj", big)}), 413,
+                 code="too_large")
+    assert "limit" in err["message"]
+
+    def chunks():                             # no Content-Length: refused as it arrives
+        for _ in range(100):
+            yield b"x" * 100_000
+
+    r = client.post("/api/bodies", content=chunks(),
+                    headers={"content-type": "multipart/form-data; boundary=zz"})
+    _error(r, 413)
+    assert set(storage_files(storage)) == before   # nothing written
+
+
+def test_scan_upload_units_and_axes_detected(client, storage):
+    """A MakeHuman body exported in millimetres, Z up, facing -Y, as binary PLY."""
+    import trimesh
+
+    from catwalk.body.rig import measured_base_body
+
+    b = measured_base_body(0.0)
+    v = b.vertices * 1000.0
+    v = np.stack([v[:, 0], -v[:, 2], v[:, 1]], axis=1)      # glTF (Y up, +Z) -> Z up, -Y
+    data = trimesh.Trimesh(v, b.faces, process=False).export(file_type="ply")
+    r = client.post("/api/bodies", files={"scan": ("scan.ply", io.BytesIO(data))})
+    assert r.status_code == 201, r.text
+    out = r.json()
+    assert out["source"] == "scan" and out["fit"] == "measurements"
+    assert out["scan"]["units"] == "mm" and out["scan"]["up_axis"] == "+Z"
+    assert out["sex"] == "female" and out["sex_inferred"] is True
+    assert abs(out["measurements"]["height"] - b.vertices[:, 1].max()) < 0.01
+    for k in ("bust", "waist", "hips"):
+        assert abs(out["model_measurements"][k] - out["measurements"][k]) < 0.015, k
+    # the scan is stored for its body only, and goes with it
+    assert (storage / "bodies" / out["id"] / "scan.ply").is_file()
+    assert client.delete(f"/api/bodies/{out['id']}").status_code == 204
+    assert not (storage / "bodies" / out["id"]).exists()
+    _error(client.get(f"/api/bodies/{out['id']}"), 404)
+
+
+@pytest.mark.parametrize("change, status, field", [
+    ({"garment_id": "ballgown"}, 404, "garment_id"),
+    ({"size": "XXXL"}, 422, "size"),
+    ({"seconds": 0.1}, 422, "seconds"),
+    ({"seconds": 11}, 422, "seconds"),
+    ({"preset": "turbo"}, 422, "preset"),
+    ({"fabric": "cardboard"}, 422, "fabric"),
+    ({"colour": "red"}, 422, "colour"),
+])
+def test_bad_tryon_requests(client, body, change, status, field):
+    req = {"body_id": body["id"], "garment_id": "pencil-skirt", **change}
+    _error(client.post("/api/tryons", json=req), status, field)
+
+
+def test_unknown_ids_and_states(client, body):
+    _error(client.post("/api/tryons", json={"body_id": "nope", "garment_id": "pencil-skirt"}),
+           404, "body_id")
+    _error(client.post("/api/tryons", content=b"[", headers={"content-type":
+                                                             "application/json"}), 400)
+    _error(client.post("/api/tryons", json=[1, 2]), 422)
+    for path in ("", "/events", "/result.glb", "/preview.png"):
+        _error(client.get(f"/api/tryons/nope{path}"), 404)
+    _error(client.delete("/api/tryons/nope"), 404)
+    _error(client.get("/api/no/such/route"), 404)
+    # queued, no worker in this module: no result yet, and it can be cancelled
+    job = client.post("/api/tryons", json={"body_id": body["id"], "garment_id":
+                                           "pencil-skirt", "preset": "fast", "seconds": 0.5})
+    assert job.status_code == 202, job.text
+    jid = job.json()["id"]
+    _error(client.get(f"/api/tryons/{jid}/result.glb"), 409, code="not_done")
+    c = client.delete(f"/api/tryons/{jid}")
+    assert c.status_code == 202 and c.json()["status"] == "cancelled"
+    _error(client.delete(f"/api/tryons/{jid}"), 409)
