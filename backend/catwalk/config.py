@@ -91,7 +91,7 @@ class Config(BaseSettings):
     @property
     def broker(self) -> str:
         """The broker URL in use (kombu's filesystem transport unless one is set)."""
-        return self.broker_url or "filesystem://"
+        return self.broker_url or "filesystem://localhost/"
 
     @property
     def broker_folder(self) -> Path:

@@ -74,6 +74,9 @@ def test_catalogue(client):
     assert one["panels"] and one["version"] == g["version"]
     png = client.get(g["thumbnail_url"])
     assert png.status_code == 200 and png.content[:8] == b"\x89PNG\r\n\x1a\n"
+    if png.headers.get("etag"):
+        again = client.get(g["thumbnail_url"], headers={"If-None-Match": png.headers["etag"]})
+        assert again.status_code == 304
     pattern = client.get("/api/garments/pencil-skirt/pattern.png", params={"size": "S"})
     assert pattern.status_code == 200 and pattern.content[:4] == b"\x89PNG"
     _error(client.get("/api/garments/ballgown"), 404, "garment_id")
@@ -92,6 +95,11 @@ def test_body_from_measurements(client, body, storage):
     assert again["model_measurements"] == made
     glb = client.get(body["body_url"])
     assert glb.status_code == 200 and glb.content[:4] == b"glTF"
+    assert "scan" not in again
+    head = client.head(body["body_url"])
+    assert head.status_code == 200 and int(head.headers["content-length"]) == len(glb.content)
+    assert client.get(body["body_url"], headers={"If-None-Match": glb.headers["etag"]}
+                      ).status_code == 304
     # bodies are never listed
     assert client.get("/api/bodies").status_code in (404, 405)
 
@@ -150,6 +158,9 @@ def test_an_upload_over_the_limit_is_refused_unread(client, storage):
     r = client.post("/api/bodies", content=chunks(),
                     headers={"content-type": "multipart/form-data; boundary=zz"})
     _error(r, 413)
+    r = client.post("/api/tryons", content=chunks(), headers={"content-type":
+                                                              "application/json"})
+    _error(r, 413)
     assert set(storage_files(storage)) == before   # nothing written
 
 
@@ -169,6 +180,7 @@ def test_scan_upload_units_and_axes_detected(client, storage):
     assert out["source"] == "scan" and out["fit"] == "measurements"
     assert out["scan"]["units"] == "mm" and out["scan"]["up_axis"] == "+Z"
     assert out["sex"] == "female" and out["sex_inferred"] is True
+    assert client.get(f"/api/bodies/{out['id']}").json()["scan"] == out["scan"]
     assert abs(out["measurements"]["height"] - b.vertices[:, 1].max()) < 0.01
     for k in ("bust", "waist", "hips"):
         assert abs(out["model_measurements"][k] - out["measurements"][k]) < 0.015, k
@@ -199,6 +211,8 @@ def test_unknown_ids_and_states(client, body):
     _error(client.post("/api/tryons", content=b"[", headers={"content-type":
                                                              "application/json"}), 400)
     _error(client.post("/api/tryons", json=[1, 2]), 422)
+    _error(client.post("/api/tryons", content=b"body_id=x", headers={"content-type":
+                                                                     "text/plain"}), 415)
     for path in ("", "/events", "/result.glb", "/preview.png"):
         _error(client.get(f"/api/tryons/nope{path}"), 404)
     _error(client.delete("/api/tryons/nope"), 404)

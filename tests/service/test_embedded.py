@@ -81,6 +81,14 @@ def test_a_tryon_end_to_end_then_cached_without_a_worker(embedded, procs, catalo
         assert again.status_code == 304
         part = client.get(done["result_url"], headers={"Range": "bytes=0-99"})
         assert part.status_code == 206 and part.content == web.content[:100]
+        past = client.get(done["result_url"], headers={"Range": f"bytes={10**9}-"})
+        assert past.status_code == 416 and past.json()["error"]["code"] == "bad_range"
+        assert client.get(done["result_url"], headers={"Range": "lines=1-2"}
+                          ).status_code == 400
+        head = client.head(done["result_url"])
+        assert head.status_code == 200 and head.content == b""
+        assert int(head.headers["content-length"]) == len(web.content)
+        assert "body_id" not in done   # a shared try-on id does not open the body
         png = client.get(done["preview_url"])
         assert png.status_code == 200 and png.content[:4] == b"\x89PNG"
         # the same inputs through the library: the same bytes
@@ -171,3 +179,22 @@ def test_catwalk_serve_subprocess_and_a_restart_with_jobs_queued(tmp_path, catal
                          params={"compress": 0}).content
         assert plain == library_glb(http, body["id"], catalogue_dir, seconds=0.5,
                                     preset="fast")
+
+
+def test_a_job_the_broker_lost_is_sent_again(embedded, procs):
+    """The database is the source of truth: a queued job whose message the broker lost (here:
+    its message file removed before any worker ran) is sent again and finishes."""
+    from catwalk.service.api.app import create_app
+
+    env, config = embedded
+    with TestClient(create_app(config)) as client:
+        body = client.post("/api/bodies", json=MEASURES).json()
+        job = client.post("/api/tryons", json={"body_id": body["id"], **SKIRT,
+                                               "seconds": 0.5}).json()
+        messages = list((config.storage_dir / "broker" / "queue").glob("*.msg"))
+        assert len(messages) == 1
+        messages[0].unlink()                      # the broker lost it
+        start_worker(procs, env)
+        end = wait_job(client, job["id"], timeout=120)
+        assert end["status"] == "done", end
+        assert end["attempts"] == 1

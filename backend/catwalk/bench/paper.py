@@ -144,7 +144,9 @@ def main(args) -> int:
         raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
     bar = ProgressBar(quiet=args.json or args.quiet)
     try:
-        r = run(args.seconds, tuple(args.modes), progress=bar)
+        # each stage of each run from 0 to 100 %
+        r = run(args.seconds, tuple(args.modes),
+                progress=lambda stage, i, total: bar(i / total if total else 1.0, stage))
     finally:
         bar.done()
     print(json.dumps(r, indent=2) if args.json else format_table(r))

@@ -21,10 +21,11 @@ def _size(text: str) -> tuple[int, int]:
     return w, h
 
 
-def render_sheet(scene, times, views, size) -> np.ndarray:
+def render_sheet(scene, times, views, size, cancel=None) -> np.ndarray:
     """Images of ``scene`` at ``times`` (columns) from ``views`` (rows). Every cell has the
     same scale — a box as large as the largest frame's — centred on its own frame, so a body
-    walking metres down the catwalk stays the same size and in view."""
+    walking metres down the catwalk stays the same size and in view. ``cancel()`` is asked
+    before each cell (:class:`~catwalk.errors.Cancelled`)."""
     from catwalk.render.preview import render_meshes
 
     frames = {t: [(v, f, rgb) for _, v, f, rgb in scene.meshes_at(t)] for t in times}
@@ -44,6 +45,10 @@ def render_sheet(scene, times, views, size) -> np.ndarray:
             box = (mid - 0.5 * extent, mid + 0.5 * extent)
             box[0][1], box[1][1] = lo[1], lo[1] + extent[1]
             bbox = None if len(times) == 1 else box
+            if cancel is not None and cancel():
+                from catwalk.errors import Cancelled
+
+                raise Cancelled("try-on cancelled")
             cells.append(render_meshes(frames[t], view=view, size=size, bbox=bbox))
         rows.append(np.concatenate(cells, axis=1))
     return np.concatenate(rows, axis=0)

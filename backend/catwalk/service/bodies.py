@@ -27,7 +27,7 @@ MEASUREMENT_FIELDS = ("height", "bust", "waist", "hips")
 
 
 def shown(measured: dict) -> dict:
-    """The measurements shown for a body, rounded to the millimetre."""
+    """The measurements shown for a body, metres rounded to 0.1 mm."""
     return {k: round(float(measured[k]), 4) for k in SHOWN
             if isinstance(measured.get(k), (int, float))}
 
@@ -114,6 +114,15 @@ class BodyMaker:
         except concurrent.futures.process.BrokenProcessPool:
             self._pool = None    # the next body gets a fresh pool
             raise
+
+    def reset(self) -> None:
+        """Stop the pool's processes now (a body that took too long), and start afresh on
+        the next body."""
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            for proc in list(getattr(pool, "_processes", {}).values()):
+                proc.terminate()
+            pool.shutdown(wait=False, cancel_futures=True)
 
     def close(self) -> None:
         if self._pool is not None:

@@ -76,7 +76,7 @@ def register(top, groups) -> None:
                         "the library, a cached answer's latency")
     p.add_argument("--tryons", type=int, default=4, help="concurrent fast try-ons (4)")
     p.add_argument("--workers", type=int, default=None,
-                   help="worker processes of the service under test (default: the cores)")
+                   help="try-ons the service under test runs at once (default 1)")
     p.add_argument("--seconds", type=float, default=2.0, help="walk length of each (2)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_service)

@@ -5,9 +5,11 @@
 Every change is one conditional UPDATE, so any number of API processes, workers and recovery
 loops can act at once and exactly one wins: a worker *claims* a job only if it is queued (or
 running with a heartbeat older than ``job_stale_s``: its worker died), and each claim counts
-an attempt; a worker's heartbeat, result and failure only land while the job is still its own
-attempt, running. A job whose worker died is run again (at most ``MAX_ATTEMPTS`` times); a
-queued job the broker no longer holds is sent again (:func:`recover`).
+an attempt (a job's progress never goes back: a run again reports the larger of its own
+fraction and the one already shown); a worker's heartbeat, result and failure only land while
+the job is still its own attempt, running. A job whose worker died is run again (at most
+``MAX_ATTEMPTS`` times); a queued job the broker no longer holds is sent again
+(:func:`recover`).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from __future__ import annotations
 import secrets
 from datetime import timedelta
 
-from sqlalchemy import and_, delete, func, or_, select, update
+from sqlalchemy import and_, case, delete, func, or_, select, update
 
 from catwalk.config import Config
 from catwalk.service import db
@@ -30,9 +32,10 @@ def new_id() -> str:
 
 
 def view(row: TryOnRow) -> dict:
-    """A job as the API shows it (``GET /api/tryons/{id}``)."""
+    """A job as the API shows it (``GET /api/tryons/{id}``). It does not name its body: a
+    try-on's id, shared, must not open the body's measurements to whoever holds it."""
     out = {"id": row.id, "status": row.status, "progress": round(float(row.progress), 4),
-           "stage": row.stage, "body_id": row.body_id, "garment_id": row.garment_id,
+           "stage": row.stage, "garment_id": row.garment_id,
            "garment_version": row.garment_version, "size": row.size, "fabric": row.fabric,
            "seconds": row.seconds, "preset": row.preset, "cached": bool(row.cached),
            "attempts": row.attempts,
@@ -45,7 +48,7 @@ def view(row: TryOnRow) -> dict:
         out["preview_url"] = f"/api/tryons/{row.id}/preview.png"
     if row.finished_at is not None:
         out["finished_at"] = row.finished_at.isoformat() + "Z"
-    return out
+    return {k: v for k, v in out.items() if v is not None}   # no key without a value
 
 
 def get(config: Config, job_id: str) -> TryOnRow | None:
@@ -87,7 +90,9 @@ def heartbeat(config: Config, job_id: str, attempt: int, progress: float, stage:
     with db.session(config) as s:
         res = s.execute(
             update(TryOnRow).where(*_mine(job_id, attempt), TryOnRow.cancel_requested.is_(False))
-            .values(progress=progress, stage=stage, heartbeat_at=utcnow())
+            .values(progress=case((TryOnRow.progress > progress, TryOnRow.progress),
+                                  else_=progress),
+                    stage=stage, heartbeat_at=utcnow())
             .execution_options(synchronize_session=False))
         return res.rowcount == 1
 
@@ -168,8 +173,7 @@ def recover(config: Config, send, queued_in_broker) -> dict:
             res = s.execute(
                 update(TryOnRow).where(TryOnRow.id == job_id, TryOnRow.status == "running",
                                        TryOnRow.heartbeat_at < stale)
-                .values(status="queued", stage="queued", progress=0.0, enqueued_at=now,
-                        cancel_requested=TryOnRow.cancel_requested)
+                .values(status="queued", stage="queued", enqueued_at=now)
                 .execution_options(synchronize_session=False))
             if res.rowcount:
                 done["requeued"].append(job_id)

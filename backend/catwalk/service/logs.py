@@ -40,3 +40,5 @@ def configure(level: str = "INFO") -> None:
         lg = logging.getLogger(name)
         lg.handlers[:] = []
         lg.propagate = True
+    for name in ("alembic", "kombu"):   # their start-up chatter
+        logging.getLogger(name).setLevel(max(logging.WARNING, root.level))

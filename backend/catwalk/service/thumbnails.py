@@ -53,7 +53,10 @@ class Thumbnails:
         self._failed: set[tuple[str, str]] = set()
 
     def path(self, entry) -> Path:
-        return self.storage.thumbnail(entry.id, entry.version)
+        """Keyed by the garment's version and the engine's: new code draws them anew."""
+        from catwalk.service.keys import engine_version
+
+        return self.storage.thumbnail(entry.id, f"{entry.version}-{engine_version()[-16:]}")
 
     def ensure(self, entry) -> asyncio.Task | None:
         """Start making the thumbnail if it is missing; the task (None when it exists or

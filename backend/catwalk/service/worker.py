@@ -188,7 +188,7 @@ def preview_png(res, cancel=None) -> bytes:
     fps = res.motion.fps if res.motion is not None else 30.0
     frames = scene.garments[0].frames
     times = [round(f * (frames - 1)) / fps for f in PREVIEW_TIMES] if frames > 1 else [0.0]
-    image = render_sheet(scene, times, ["front", "side"], PREVIEW_SIZE)
+    image = render_sheet(scene, times, ["front", "side"], PREVIEW_SIZE, cancel)
     buf = io.BytesIO()
     Image.fromarray(image).save(buf, format="PNG")
     return buf.getvalue()
@@ -257,7 +257,7 @@ def main(concurrency: int | None = None, loglevel: str | None = None) -> int:
     # after the pool has forked: no thread of ours runs while a child process is made
     worker_ready.connect(lambda **_: Recovery(config).start(), weak=False)
     app = celery_app(config)
-    argv = ["worker", f"--concurrency={n}", f"--queues={config.queue}", "--pool=prefork",
+    argv = ["--quiet", "worker", f"--concurrency={n}", f"--queues={config.queue}", "--pool=prefork",
             f"--loglevel={(loglevel or config.log_level).upper()}", "--without-gossip",
             "--without-mingle", "--without-heartbeat", "-O", "fair",
             f"--hostname=catwalk-{os.getpid()}@{socket.gethostname()}"]

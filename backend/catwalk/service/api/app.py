@@ -44,33 +44,34 @@ class LimitUploads:
         if length is not None and length.isdigit() and int(length) > self.limit:
             return await self._refuse(send, int(length))
         seen = 0
-        started = False
+        over = False
 
         async def counted():
-            nonlocal seen
+            nonlocal seen, over
             msg = await receive()
             if msg["type"] == "http.request":
                 seen += len(msg.get("body", b""))
                 if seen > self.limit:
+                    over = True
                     raise UploadTooLarge()
             return msg
 
         async def watched(msg):
-            nonlocal started
-            if msg["type"] == "http.response.start":
-                started = True
-            await send(msg)
+            if not over:   # once over the limit the app's own answer (say, a 400 for a
+                await send(msg)   # body it could not parse) is replaced by the 413
 
         try:
             await self.app(scope, counted, watched)
         except UploadTooLarge:
-            if not started:
-                await self._refuse(send, None)
+            pass
+        if over:
+            await self._refuse(send, None)
 
     async def _refuse(self, send, length):
         told = f" ({length:,} bytes)" if length else ""
         body = json.dumps(errors.error_body(
-            413, f"the upload{told} is over the limit of {self.limit:,} bytes")).encode()
+            413, f"the upload{told} is over the limit of {self.limit:,} bytes"),
+            separators=(",", ":")).encode()
         await send({"type": "http.response.start", "status": 413,
                     "headers": [(b"content-type", b"application/json"),
                                 (b"content-length", str(len(body)).encode()),

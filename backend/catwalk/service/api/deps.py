@@ -19,3 +19,12 @@ def storage(request: Request) -> Storage:
 
 def catalogue(request: Request) -> Catalogue:
     return request.app.state.catalogue
+
+
+def json_body(request: Request) -> None:
+    """Refuse (415) a request body that is not declared as JSON."""
+    from catwalk.service.api.errors import ApiError
+
+    ctype = request.headers.get("content-type", "").split(";")[0].strip().lower()
+    if ctype != "application/json":
+        raise ApiError(415, f"send the request as application/json, not {ctype or 'nothing'}")

@@ -62,7 +62,6 @@ class TryOn(BaseModel):
     metrics: dict | None = None
     result_url: str | None = None
     preview_url: str | None = None
-    body_id: str | None = None
     garment_id: str | None = None
     garment_version: str | None = None
     size: str | None = None

@@ -13,7 +13,7 @@ import logging
 import time
 
 from fastapi import APIRouter, Depends, Request
-from fastapi.responses import FileResponse, Response
+from fastapi.responses import Response
 from pydantic import ValidationError
 from sqlalchemy import select
 
@@ -22,6 +22,7 @@ from catwalk.errors import InputError
 from catwalk.service import db, jobs, keys
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, UploadTooLarge, not_found
+from catwalk.service.api.files import file_response
 from catwalk.service.bodies import make_from_measurements, make_from_scan
 from catwalk.service.models import BodyRow
 
@@ -42,12 +43,16 @@ _BODY_REQUEST = {
 
 
 def body_view(row: BodyRow) -> dict:
-    return {"id": row.id, "source": row.source, "fit": row.fit, "sex": row.sex,
-            "sex_inferred": bool((row.measurements or {}).get("_sex_inferred", False)),
-            "measurements": {k: v for k, v in (row.measurements or {}).items()
-                             if not k.startswith("_")},
-            "model_measurements": row.model_measurements or {},
-            "body_url": f"/api/bodies/{row.id}/body.glb"}
+    """A body as the API shows it; what a scan told (units, axes, size) for a scan's."""
+    m = row.measurements or {}
+    out = {"id": row.id, "source": row.source, "fit": row.fit, "sex": row.sex,
+           "sex_inferred": bool(m.get("_sex_inferred", False)),
+           "measurements": {k: v for k, v in m.items() if not k.startswith("_")},
+           "model_measurements": row.model_measurements or {},
+           "body_url": f"/api/bodies/{row.id}/body.glb"}
+    if row.source == "scan":
+        out["scan"] = m.get("_scan")
+    return out
 
 
 def _get_row(config: Config, body_id: str) -> BodyRow:
@@ -104,7 +109,7 @@ async def _scan(request: Request) -> tuple[bytes, str, str | None]:
 
 
 @router.post("", status_code=201, response_model=schemas.Body, openapi_extra=_BODY_REQUEST,
-             responses=schemas.ERRORS)
+             responses=schemas.ERRORS, response_model_exclude_none=True)
 async def create_body(request: Request, config: Config = Depends(deps.config),
                       storage=Depends(deps.storage)) -> dict:
     """A body from a scan (multipart) or from measurements (JSON)."""
@@ -127,10 +132,12 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
             scan_path = storage.write(storage.scan_path(body_id, fmt), data)
             made = await maker.run(make_from_scan, str(scan_path), str(out), sex,
                                    timeout=config.body_timeout_s)
+            # keyed by the sex the body was made with, told or inferred alike
             row = BodyRow(id=body_id, source="scan", fit="measurements", sex=made["sex"],
-                          content_key=keys.scan_key(data, sex), scan_format=fmt,
+                          content_key=keys.scan_key(data, made["sex"]), scan_format=fmt,
                           measurements={**made["measurements"],
-                                        "_sex_inferred": made["sex_inferred"]},
+                                        "_sex_inferred": made["sex_inferred"],
+                                        "_scan": made["scan"]},
                           model_measurements=made["model_measurements"])
         else:
             raise ApiError(415, "send measurements as application/json or a scan as "
@@ -140,6 +147,7 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
         raise ApiError(422, str(exc), exc.field or ("scan" if ctype.startswith("multipart")
                                                     else None)) from None
     except TimeoutError:
+        maker.reset()   # stop the process still making it, so it writes nothing afterwards
         storage.remove_body(body_id)
         raise ApiError(503, f"the body was not made within {config.body_timeout_s:g} s; try "
                             "again", code="busy") from None
@@ -150,10 +158,7 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
     # the body's id and how it went only: measurements and scans are never logged
     log.info(json.dumps({"event": "body_created", "body": body_id, "source": row.source,
                          "seconds": round(time.perf_counter() - t0, 2)}))
-    out_view = body_view(row)
-    if row.source == "scan":
-        out_view["scan"] = made.get("scan")
-    return out_view
+    return body_view(row)
 
 
 def _insert(config: Config, row: BodyRow) -> None:
@@ -161,22 +166,25 @@ def _insert(config: Config, row: BodyRow) -> None:
         s.add(row)
 
 
-@router.get("/{body_id}", response_model=schemas.Body, responses=schemas.ERRORS)
+@router.get("/{body_id}", response_model=schemas.Body, responses=schemas.ERRORS,
+            response_model_exclude_none=True)
 def get_body(body_id: str, config: Config = Depends(deps.config)) -> dict:
     return body_view(_get_row(config, body_id))
 
 
 @router.get("/{body_id}/body.glb", responses={200: {"content": {"model/gltf-binary": {}}},
-                                              **schemas.ERRORS})
-def body_glb(body_id: str, config: Config = Depends(deps.config),
+                                                **schemas.ERRORS})
+@router.head("/{body_id}/body.glb", include_in_schema=False)
+def body_glb(body_id: str, request: Request, config: Config = Depends(deps.config),
              storage=Depends(deps.storage)):
     """The rigged body (skinned mesh, skeleton, landmarks) as glTF."""
     _get_row(config, body_id)
     path = storage.body_glb(body_id)
     if not path.is_file():
         raise not_found("body file", body_id, "body_id")
-    return FileResponse(path, media_type="model/gltf-binary",
-                        headers={"Cache-Control": "private, max-age=3600"})
+    st = path.stat()
+    return file_response(request, path, "model/gltf-binary",
+                         f'"{st.st_size:x}-{st.st_mtime_ns:x}"', "private, max-age=3600")
 
 
 @router.delete("/{body_id}", status_code=204, responses=schemas.ERRORS)

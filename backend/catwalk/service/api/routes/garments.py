@@ -5,11 +5,12 @@ from __future__ import annotations
 import asyncio
 
 from fastapi import APIRouter, Depends, Query, Request
-from fastapi.responses import FileResponse, Response
+from fastapi.responses import Response
 
 from catwalk.errors import InputError
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, not_found
+from catwalk.service.api.files import file_response, not_modified
 
 router = APIRouter(prefix="/api/garments", tags=["garments"])
 
@@ -26,7 +27,7 @@ def list_garments(type: str | None = Query(None, description="only garments of t
                   catalogue=Depends(deps.catalogue)) -> dict:
     """Every garment in the catalogue."""
     items = [e.summary() for e in catalogue.entries().values()
-             if type is None or e.garment.type == type]
+             if not type or e.garment.type == type]
     return {"garments": items}
 
 
@@ -37,6 +38,7 @@ def get_garment(garment_id: str, catalogue=Depends(deps.catalogue)) -> dict:
 
 
 @router.get("/{garment_id}/thumbnail.png", responses={200: {"content": {"image/png": {}}}})
+@router.head("/{garment_id}/thumbnail.png", include_in_schema=False)
 async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.catalogue)):
     """The garment dressed on a sample body (front view). Until it has been rendered, the
     flat cutting pattern (not cached)."""
@@ -48,9 +50,7 @@ async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.ca
         if task is not None:
             await asyncio.wait({task}, timeout=2.0)
     if path.is_file():
-        return FileResponse(path, media_type="image/png",
-                            headers={"Cache-Control": "public, max-age=31536000, immutable",
-                                     "ETag": f'"{entry.version}"'})
+        return file_response(request, path, "image/png", f'"{path.stem}"')
     png = await asyncio.to_thread(_pattern, entry, None)
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
 
@@ -62,14 +62,17 @@ def _pattern(entry, size):
 
 
 @router.get("/{garment_id}/pattern.png", responses={200: {"content": {"image/png": {}}}})
-async def pattern(garment_id: str, size: str | None = None,
+@router.head("/{garment_id}/pattern.png", include_in_schema=False)
+async def pattern(garment_id: str, request: Request, size: str | None = None,
                   catalogue=Depends(deps.catalogue)):
     """The garment's cutting pattern in one size, drawn flat."""
     entry = _entry(catalogue, garment_id)
     if size is not None and size not in entry.garment.sizes:
         raise ApiError(422, f"garment {garment_id!r} has no size {size!r} (sizes: "
                             f"{', '.join(entry.garment.sizes)})", "size")
+    etag = f'"{entry.version}-{size or "default"}"'
+    headers = {"Cache-Control": "public, max-age=3600", "ETag": etag}
+    if not_modified(request, etag):
+        return Response(status_code=304, headers=headers)
     png = await asyncio.to_thread(_pattern, entry, size)
-    return Response(png, media_type="image/png",
-                    headers={"Cache-Control": "public, max-age=3600",
-                             "ETag": f'"{entry.version}-{size or "default"}"'})
+    return Response(png, media_type="image/png", headers=headers)

@@ -9,7 +9,7 @@ import json
 import logging
 
 from fastapi import APIRouter, Depends, Query, Request
-from fastapi.responses import FileResponse, JSONResponse, Response
+from fastapi.responses import JSONResponse
 from sse_starlette.sse import EventSourceResponse
 
 from catwalk.config import Config
@@ -17,6 +17,7 @@ from catwalk.errors import InputError
 from catwalk.service import db, jobs, keys
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, not_found
+from catwalk.service.api.files import file_response
 from catwalk.service.models import FINISHED, BodyRow, TryOnRow, utcnow
 
 router = APIRouter(prefix="/api/tryons", tags=["tryons"])
@@ -88,7 +89,7 @@ def _submit(config: Config, catalogue, req: schemas.TryOnRequest) -> tuple[TryOn
                               "description": "already made: answered from the cache"},
                         **schemas.ERRORS})
 async def create_tryon(req: schemas.TryOnRequest, config: Config = Depends(deps.config),
-                       catalogue=Depends(deps.catalogue)):
+                       catalogue=Depends(deps.catalogue), _json=Depends(deps.json_body)):
     """Ask for a try-on of a body in a catalogue garment."""
     from catwalk.service.queue import send
 
@@ -105,7 +106,8 @@ async def create_tryon(req: schemas.TryOnRequest, config: Config = Depends(deps.
     return JSONResponse(view, status_code=200 if row.status == "done" else 202)
 
 
-@router.get("/{job_id}", response_model=schemas.TryOn, responses=schemas.ERRORS)
+@router.get("/{job_id}", response_model=schemas.TryOn, response_model_exclude_none=True,
+            responses=schemas.ERRORS)
 def get_tryon(job_id: str, config: Config = Depends(deps.config)) -> dict:
     return _view(config, _job(config, job_id))
 
@@ -118,14 +120,16 @@ async def tryon_events(job_id: str, request: Request, config: Config = Depends(d
     row = await asyncio.to_thread(_job, config, job_id)
 
     async def stream():
-        last = None
+        last = last_view = None
         current = row
         while True:
             view = await asyncio.to_thread(_view, config, current) if current else None
-            if view is None:
-                yield {"event": "failed", "data": json.dumps(
-                    {"id": job_id, "status": "failed", "error": "the try-on was deleted"})}
+            if view is None:   # deleted (with its body) while it was followed
+                gone = dict(last_view or {"id": job_id, "progress": 0.0},
+                            status="failed", stage="deleted", error="the try-on was deleted")
+                yield {"event": "failed", "data": json.dumps(gone)}
                 return
+            last_view = view
             state = (view["status"], view["progress"], view["stage"])
             if view["status"] in FINISHED:
                 yield {"event": view["status"], "data": json.dumps(view)}
@@ -163,17 +167,9 @@ def _result_file(config: Config, storage, job_id: str, name: str):
     return res, path
 
 
-def _not_modified(request: Request, etag: str) -> bool:
-    tags = request.headers.get("if-none-match")
-    return bool(tags) and (tags.strip() == "*" or etag in [t.strip().removeprefix("W/")
-                                                            for t in tags.split(",")])
-
-
-IMMUTABLE = "public, max-age=31536000, immutable"
-
-
 @router.get("/{job_id}/result.glb", responses={200: {"content": {"model/gltf-binary": {}}},
-                                               **schemas.ERRORS})
+                                                **schemas.ERRORS})
+@router.head("/{job_id}/result.glb", include_in_schema=False)
 def result_glb(job_id: str, request: Request,
                compress: int = Query(1, ge=0, le=1, description="0: the plain file"),
                config: Config = Depends(deps.config), storage=Depends(deps.storage)):
@@ -182,21 +178,15 @@ def result_glb(job_id: str, request: Request,
     name = "tryon.web.glb" if compress else "tryon.glb"
     res, path = _result_file(config, storage, job_id, name)
     etag = f'"{res.web_sha256 if compress else res.glb_sha256}"'
-    headers = {"ETag": etag, "Cache-Control": IMMUTABLE}
-    if _not_modified(request, etag):
-        return Response(status_code=304, headers=headers)
-    return FileResponse(path, media_type="model/gltf-binary", headers=headers,
-                        filename=f"tryon-{job_id[:8]}.glb", content_disposition_type="inline")
+    return file_response(request, path, "model/gltf-binary", etag,
+                         filename=f"tryon-{job_id[:8]}.glb")
 
 
 @router.get("/{job_id}/preview.png", responses={200: {"content": {"image/png": {}}},
                                                 **schemas.ERRORS})
+@router.head("/{job_id}/preview.png", include_in_schema=False)
 def preview_png(job_id: str, request: Request, config: Config = Depends(deps.config),
                 storage=Depends(deps.storage)):
     """Four moments of the walk, front and side, rendered on the CPU."""
     res, path = _result_file(config, storage, job_id, "preview.png")
-    etag = f'"{res.glb_sha256[:32]}-preview"'
-    headers = {"ETag": etag, "Cache-Control": IMMUTABLE}
-    if _not_modified(request, etag):
-        return Response(status_code=304, headers=headers)
-    return FileResponse(path, media_type="image/png", headers=headers)
+    return file_response(request, path, "image/png", f'"{res.glb_sha256[:32]}-preview"')
