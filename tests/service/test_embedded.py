@@ -198,3 +198,28 @@ def test_a_job_the_broker_lost_is_sent_again(embedded, procs):
         end = wait_job(client, job["id"], timeout=120)
         assert end["status"] == "done", end
         assert end["attempts"] == 1
+
+
+def test_a_job_that_cannot_run_fails_with_its_reason(tmp_path, catalogue_dir, procs):
+    """A garment edited between the request and the run: the job fails, saying why."""
+    import shutil
+
+    from catwalk.service.api.app import create_app
+
+    catalogue = tmp_path / "catalogue"
+    shutil.copytree(catalogue_dir, catalogue)
+    env = service_env(tmp_path / "storage", catalogue)
+    config = make_config(env)
+    with TestClient(create_app(config)) as client:
+        body = client.post("/api/bodies", json=MEASURES).json()
+        job = client.post("/api/tryons", json={"body_id": body["id"], **SKIRT,
+                                               "seconds": 0.5}).json()
+        skirt = catalogue / "pencil-skirt.json"
+        skirt.write_text(skirt.read_text() + "\n")      # a new version of the garment
+        start_worker(procs, env)
+        end = wait_job(client, job["id"], timeout=120)
+        assert end["status"] == "failed"
+        assert "has changed" in end["error"] and "Traceback" not in end["error"]
+        assert end["progress"] < 1.0
+        r = client.get(f"/api/tryons/{job['id']}/result.glb")
+        assert r.status_code == 409

@@ -171,3 +171,23 @@ def test_dress_cli_writes_a_valid_static_glb(body_glb, tmp_path, repo_root, caps
     rc = main(["dress", "--body", str(body_glb), "--garment", str(tmp_path / "nope.json"),
                *FAST, "-o", str(tmp_path / "x.glb")])
     assert rc == 2 and not (tmp_path / "x.glb").exists()
+
+
+def test_a_simulation_that_fails_exits_3_and_writes_nothing(body_glb, tmp_path, repo_root,
+                                                            capsys, monkeypatch):
+    """The simulation's failure (here: a dressing that does not close its seams) is not the
+    user's input: exit 3, its reason printed, no file."""
+    import catwalk.simulate.tryon as entry
+    from catwalk.simulate.dressing import DressingError
+
+    def fails(*a, **k):
+        raise DressingError("garment 'x' size M: these seams are still open: 'side' by 4.0 cm")
+
+    monkeypatch.setattr(entry, "dress", fails)
+    out = tmp_path / "t.glb"
+    rc = main(["tryon", "--body", str(body_glb), "--garment", str(repo_root / SKIRT),
+               *FAST, "-o", str(out)])
+    assert rc == 3
+    err = capsys.readouterr().err
+    assert "still open" in err and "Traceback" not in err
+    assert not out.exists()

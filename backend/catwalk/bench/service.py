@@ -94,7 +94,7 @@ def _through_api(url: str, body_id: str, requests: list[dict]) -> tuple[list[flo
         with Client(url, timeout=600) as api:
             t0 = time.perf_counter()
             job = api.create_tryon(body_id=body_id, **req)
-            job = api.wait(job["id"], timeout=1800, poll=0.05)
+            job = api.follow(job["id"], timeout=1800)   # the server-sent events, as a page
             if job["status"] != "done":
                 errors.append(f"{job['status']}: {job.get('error')}")
                 return
@@ -138,7 +138,9 @@ def _through_library(body: bytes, garment: Path, requests: list[dict]) -> float:
     from catwalk.exchange.compress import compress_bytes
     from catwalk.service.worker import preview_png
 
-    catwalk.tryon(body, garment, preset=PRESET, seconds=0.3, garment_id=GARMENT)   # warm
+    from catwalk.service.worker import warm_up
+
+    warm_up()   # what a worker does before its first job: every kernel loaded
     t0 = time.perf_counter()
     for req in requests:
         res = catwalk.tryon(body, garment, preset=req["preset"], seconds=req["seconds"],
