@@ -65,7 +65,7 @@ class Config(BaseSettings):
                          description="worker processes `catwalk serve` starts (0: none)")
     upload_max_bytes: int = Field(default=100 * 1024 * 1024, gt=0,
                                   description="the largest upload accepted (413 above)")
-    job_time_limit_s: float = Field(default=1800.0, gt=0,
+    job_time_limit_s: float = Field(default=1800.0, ge=10,
                                     description="a job is killed after this long")
     job_stale_s: float = Field(default=30.0, gt=0,
                                description="a running job without a heartbeat for this long "
@@ -104,8 +104,22 @@ class Config(BaseSettings):
         return self.database_url is None and self.broker_url is None
 
 
+def unknown_variables() -> list[str]:
+    """``CATWALK_*`` variables in the environment that no setting reads (a misspelt
+    ``CATWALK_DATABSE_URL`` would otherwise quietly give SQLite)."""
+    known = {f"CATWALK_{name.upper()}" for name in Config.model_fields} | {"CATWALK_DATA"}
+    ours = {k for k in os.environ if k.startswith("CATWALK_")}
+    test_only = {k for k in ours if k.startswith("CATWALK_TEST_")}
+    return sorted(ours - known - test_only)
+
+
 @functools.lru_cache(maxsize=1)
 def get_config() -> Config:
     """This process's settings, read from the environment once (``get_config.cache_clear()``
-    reads them again)."""
+    reads them again). Unknown ``CATWALK_*`` variables are reported on stderr."""
+    import sys
+
+    for name in unknown_variables():
+        print(f"catwalk: warning: {name} is not a catwalk setting (see README, "
+              "Configuration); ignored", file=sys.stderr)
     return Config()

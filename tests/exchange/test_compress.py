@@ -17,15 +17,17 @@ def test_compressed_tryon_validates_and_keeps_morph_animation(tmp_path):
     assert report["numErrors"] == 0, report["messages"]
     doc = gltf.load_glb(dst)[0]
     assert "EXT_meshopt_compression" in doc.extensionsUsed
-    garment = next(n for n in doc.nodes if n.name == "garment:skirt")   # kept by -kn
+    garment = next(n for n in doc.nodes if n.name == "garment:skirt#0")   # kept by -kn
     mesh_nodes = [doc.nodes[c] for c in garment.children or []] or [garment]
     prims = [p for n in mesh_nodes if n.mesh is not None for p in doc.meshes[n.mesh].primitives]
     assert len(prims) == 2 and all(len(p.targets) == 6 for p in prims)
+    assert all(p.attributes.TEXCOORD_1 is not None for p in prims)   # -kv: the fit map's
+    assert doc.accessors[prims[0].attributes.TEXCOORD_1].componentType == 5126   # -vtf
     (clip,) = doc.animations
     weights = [c for c in clip.channels if c.target.path == "weights"]
     assert len(weights) == 1
     s = clip.samplers[weights[0].sampler]
-    assert s.interpolation == "STEP"
+    assert s.interpolation == "LINEAR"
     assert doc.accessors[s.input].count == 6            # -af 0: the frame times, not resampled
     assert doc.accessors[s.output].count == 36
     assert doc.accessors[s.input].max[0] == pytest.approx(5 / 30, abs=1e-6)

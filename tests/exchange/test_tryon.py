@@ -25,13 +25,19 @@ def test_tryon_glb_validates_with_one_clip_and_morph_targets(tryon):
     assert report["numErrors"] == 0, report["messages"]
     doc, _ = gltf.load_glb(path)
     assert [a.name for a in doc.animations] == ["walk"]
-    node = next(n for n in doc.nodes if n.name == "garment:skirt")
+    assert [n.name for n in doc.nodes if n.name and n.name.startswith("garment:")] == \
+        ["garment:skirt#0"]
+    node = next(n for n in doc.nodes if n.name == "garment:skirt#0")   # one chunk
     assert node.matrix is None and node.translation is None and node.skin is None
     assert doc.nodes.index(node) in doc.scenes[0].nodes
     mesh = doc.meshes[node.mesh]
     assert len(mesh.primitives) == 2                           # one per panel
     assert all(len(p.targets) == 5 for p in mesh.primitives)   # one per frame
-    assert mesh.extras["catwalk"]["frames"] == 5
+    assert all(set(t) == {"POSITION", "NORMAL"} for t in mesh.primitives[0].targets)
+    assert mesh.extras["catwalk"]["frames"] == 5 and mesh.extras["catwalk"]["chunks"] == 1
+    # the pattern's metres beside the texture coordinates: the fit map's rest shape
+    pattern = gltf._read_accessor(doc, _, mesh.primitives[0].attributes.TEXCOORD_1)
+    assert np.allclose(pattern, gm.uv[gm.panel == 0], atol=1e-6)
     # the front panel is textured (the PNG embedded), the back one coloured
     m0, m1 = (doc.materials[p.material] for p in mesh.primitives)
     assert m0.pbrMetallicRoughness.baseColorTexture.index == 0
@@ -46,27 +52,79 @@ def test_tryon_glb_validates_with_one_clip_and_morph_targets(tryon):
     json.dumps(doc.extras)
 
 
-def test_weights_are_step_keys_and_playback_picks_last_frame_at_or_before_t(tryon):
+def test_weights_are_linear_keys_and_playback_interpolates_frames(tryon):
     path, gm = tryon
     doc, blob = gltf.load_glb(path)
     anim = doc.animations[0]
-    node = next(i for i, n in enumerate(doc.nodes) if n.name == "garment:skirt")
+    node = next(i for i, n in enumerate(doc.nodes) if n.name == "garment:skirt#0")
     ch = [c for c in anim.channels if c.target.node == node]
-    assert len(ch) == 1 and ch[0].target.path == "weights"
+    assert [c.target.path for c in ch] == ["weights"]     # one chunk: always shown
     s = anim.samplers[ch[0].sampler]
-    assert s.interpolation == "STEP"
+    assert s.interpolation == "LINEAR"
     times = gltf._read_accessor(doc, blob, s.input)
     w = gltf._read_accessor(doc, blob, s.output).reshape(len(times), 5)
     assert np.allclose(times, gm.times, atol=1e-7)
     assert np.array_equal(w, np.eye(5))
 
-    def three_step(t):   # THREE.DiscreteInterpolant: the value of the last key with time <= t
-        k = max(int(np.searchsorted(times, t, side="right")) - 1, 0)
-        return w[k]
+    def three_linear(t):   # THREE.LinearInterpolant, clamped at the ends
+        return np.array([np.interp(t, times, w[:, k]) for k in range(5)])
 
-    for t, frame in [(0.0, 0), (0.02, 0), (1 / 30, 1), (0.05, 1), (0.1334, 4), (9.0, 4)]:
-        assert np.argmax(three_step(t)) == frame
-        assert gm.frame_at(t) == frame
+    for t in (0.0, 0.02, 1 / 30, 0.05, 0.1334, 9.0):
+        i, a = gm.frame_at(t)
+        expect = np.zeros(5)
+        expect[i] += 1 - a
+        if a:
+            expect[i + 1] += a
+        assert np.allclose(three_linear(t), expect, atol=1e-6), t
+        mixed = gm.positions[0] + np.tensordot(three_linear(t), gm.positions - gm.positions[0],
+                                               axes=1)
+        assert np.allclose(gm.positions_at(t), mixed, atol=1e-6)
+    assert gm.frame_at(0.05) == (1, pytest.approx(0.5))
+
+
+def test_long_try_ons_are_split_into_chunks_a_player_can_draw(tmp_path):
+    """300 frames (10 s at 30 fps): meshes of at most 64 targets sharing a frame at each seam,
+    one shown at a time (STEP scale keys), read back as one garment."""
+    from catwalk.exchange.tryon_glb import CHUNK_TARGETS, chunk_spans
+
+    assert chunk_spans(5) == [(0, 4)] and chunk_spans(64) == [(0, 63)]
+    assert chunk_spans(65) == [(0, 63), (63, 64)]
+    spans = chunk_spans(300)
+    assert spans[0] == (0, 63) and spans[-1][1] == 299
+    assert all(b - a + 1 <= CHUNK_TARGETS for a, b in spans)
+    assert all(spans[k][1] == spans[k + 1][0] for k in range(len(spans) - 1))
+    gm = skirt(frames=300, around=6, rows=2)
+    path = tmp_path / "long.glb"
+    write_tryon(path, box_body(), None, [gm], normals=False)
+    report = gltf.validate([path])[0]
+    assert report["numErrors"] == 0, report["messages"][:5]
+    doc, blob = gltf.load_glb(path)
+    nodes = [(i, n) for i, n in enumerate(doc.nodes) if n.name and n.name.startswith("garment:")]
+    assert [n.name for _, n in nodes] == [f"garment:skirt#{k}" for k in range(len(spans))]
+    anim = doc.animations[0]
+    times = gm.times
+    for k, (i, n) in enumerate(nodes):
+        mesh = doc.meshes[n.mesh]
+        assert len(mesh.primitives[0].targets) == spans[k][1] - spans[k][0] + 1 <= 64
+        assert "NORMAL" not in mesh.primitives[0].targets[0]
+        (scale,) = [c for c in anim.channels if c.target.node == i and c.target.path == "scale"]
+        smp = anim.samplers[scale.sampler]
+        assert smp.interpolation == "STEP"
+        keys = gltf._read_accessor(doc, blob, smp.input)
+        vals = gltf._read_accessor(doc, blob, smp.output)[:, 0]
+
+        def shown(t, keys=keys, vals=vals):
+            return vals[max(int(np.searchsorted(keys, t, side="right")) - 1, 0)] > 0
+
+        a, b = spans[k]
+        mid = 0.5 * (times[a] + times[b])
+        assert shown(mid)
+        for j, other in enumerate(spans):
+            if j != k:
+                assert not shown(0.5 * (times[other[0]] + times[other[1]])), (k, j)
+    (back,) = read_garments(path)
+    assert back.frames == 300
+    assert np.abs(back.positions - gm.positions.astype(np.float32)).max() < 4e-7
 
 
 def test_read_garments_round_trips(tryon):
@@ -87,7 +145,7 @@ def test_read_garments_round_trips(tryon):
     assert len(gltf.read_body(path).vertices) == len(box_body().vertices)
 
 
-def test_scene_shows_the_step_frame_with_texture_colours(tryon):
+def test_scene_interpolates_frames_with_texture_colours(tryon):
     path, gm = tryon
     scene = load_scene(path)
     assert scene.duration == pytest.approx(11 / 30)
@@ -95,7 +153,7 @@ def test_scene_shows_the_step_frame_with_texture_colours(tryon):
     assert names == ["body", "garment:skirt"]
     for t in (0.0, 0.05, 0.2):
         _, v, f, rgb = scene.meshes_at(t)[1]
-        assert np.allclose(v, gm.positions[gm.frame_at(t)], atol=1e-6)
+        assert np.allclose(v, gm.positions_at(t), atol=1e-6)
         assert rgb.shape == (len(v), 3)
     front = gm.panel == 0
     # the front samples red and white stripes, the back is its flat colour
@@ -128,7 +186,7 @@ def test_static_body_gets_a_clip_for_the_garments(tmp_path):
     path = tmp_path / "s.glb"
     a, b = skirt(frames=3), skirt(frames=4)
     b.name = "garment:second"
-    write_tryon(path, box_body(), None, [a, b], morph_normals=True)
+    write_tryon(path, box_body(), None, [a, b])
     report = gltf.validate([path])[0]
     assert report["numErrors"] == 0, report["messages"]
     doc, _ = gltf.load_glb(path)

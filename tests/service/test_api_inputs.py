@@ -226,3 +226,41 @@ def test_unknown_ids_and_states(client, body):
     c = client.delete(f"/api/tryons/{jid}")
     assert c.status_code == 202 and c.json()["status"] == "cancelled"
     _error(client.delete(f"/api/tryons/{jid}"), 409)
+
+
+def test_the_pages_are_served_with_a_history_fallback(tmp_path, catalogue_dir):
+    from catwalk.service.api.app import create_app
+
+    dist = tmp_path / "dist"
+    (dist / "assets").mkdir(parents=True)
+    (dist / "index.html").write_text("<!doctype html><title>catwalk</title>")
+    (dist / "assets" / "app-1234.js").write_text("console.log(1)")
+    (tmp_path / "secret.txt").write_text("not a page")
+    config = make_config(service_env(tmp_path / "storage", catalogue_dir))
+    with TestClient(create_app(config, recovery=False, frontend=dist)) as c:
+        for path in ("/", "/body", "/garments/pencil-skirt", "/tryon/abc", "/compare?a=1&b=2"):
+            r = c.get(path)
+            assert r.status_code == 200 and "<title>catwalk</title>" in r.text, path
+            assert r.headers["cache-control"] == "no-cache"
+        js = c.get("/assets/app-1234.js")
+        assert js.text == "console.log(1)" and "immutable" in js.headers["cache-control"]
+        assert "not a page" not in c.get("/../secret.txt").text
+        assert "not a page" not in c.get("/%2e%2e/secret.txt").text
+        _error(c.get("/api/nope"), 404)
+        assert c.get("/api/garments").json()["garments"]        # the API still answers
+        assert c.get("/openapi.json").json()["paths"]
+        sizes = c.get("/api/garments/pencil-skirt/sizes", params={"body_id": "x" * 32})
+        _error(sizes, 404, "body_id")
+
+
+def test_size_advice(client, body):
+    r = client.get("/api/garments/pencil-skirt/sizes", params={"body_id": body["id"]})
+    assert r.status_code == 200, r.text
+    advice = r.json()
+    rows = {row["size"]: row for row in advice["sizes"]}
+    assert set(rows) == {"S", "M", "L"}
+    # the body is the female S sample body's measurements: S fits exactly, L is roomy
+    assert rows["S"]["ease"] == {"bust": 0.0, "waist": 0.0, "hips": 0.0}
+    assert rows["S"]["fits"] and rows["L"]["ease"]["hips"] > 0.1
+    assert advice["recommended"] == "S"
+    _error(client.get("/api/garments/pencil-skirt/sizes"), 422, "body_id")

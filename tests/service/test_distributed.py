@@ -87,3 +87,27 @@ def test_two_workers_share_the_queue_and_survive_a_kill(scaled, procs, catalogue
                            params={"compress": 0}).content
         assert plain == library_glb(client, body["id"], catalogue_dir, seconds=0.5,
                                     preset="fast")
+
+
+def test_jobs_redis_lost_are_sent_again(scaled, procs, redis_url, queue_name):
+    """Redis restarted (it keeps nothing on disk here): the queued jobs' messages are gone;
+    the database still has them queued, so they are sent again and finish."""
+    import redis
+
+    from catwalk.service.api.app import create_app
+
+    env, config = scaled
+    with TestClient(create_app(config)) as client:
+        body = client.post("/api/bodies", json=MEASURES).json()
+        # (other seconds than the test above: the session's database has those results)
+        asked = [client.post("/api/tryons", json={"body_id": body["id"], **SKIRT,
+                                                  "seconds": s}).json() for s in (0.55, 0.65)]
+        assert [a["status"] for a in asked] == ["queued", "queued"]
+        r = redis.Redis.from_url(redis_url)
+        lost = [k for k in r.scan_iter(f"{queue_name}*") if r.type(k) == b"list"]
+        assert lost and sum(r.llen(k) for k in lost) == 2
+        r.delete(*lost)                                   # what a restart does
+        start_worker(procs, env)
+        for a in asked:
+            end = wait_job(client, a["id"], timeout=180)
+            assert end["status"] == "done", end

@@ -1,12 +1,15 @@
 """Smaller try-on files for the browser: gltfpack (meshoptimizer), installed in tools/node.
 
 ``compress_glb(src, dst)`` quantises (KHR_mesh_quantization: 14-bit positions, 16-bit morph
-displacements, 12-bit rotations) and compresses (EXT_meshopt_compression) a catwalk .glb,
-keeping the morph targets, the STEP weights channel and the clip's keyframe times as written
-(``-af 0``: no resampling, which would move the garment frame switches by up to one frame)
-and the named nodes (``-kn``) and materials (``-km``). Typical ratio on a walking try-on:
-about 7×. A compressed file is for players (three.js: ``GLTFLoader.setMeshoptDecoder``); catwalk's
-own readers (``read_body``, ``read_garments``, ``catwalk render``) need the uncompressed file.
+displacements, 8-bit normals, 12-bit rotations; texture coordinates stay float, ``-vtf``, so
+``TEXCOORD_1`` keeps the pattern's metres) and compresses (EXT_meshopt_compression) a catwalk
+.glb, keeping the morph targets, the weights and scale channels and the clip's keyframe times
+as written (``-af 0``: no resampling), the named nodes (``-kn``: the garments' chunk nodes),
+the materials (``-km``) and the texture coordinates no material uses (``-kv``). gltfpack drops
+application attributes (``_PART``) and extras: a player gets the frame times from the weights
+channels and the chunks from the node names. A compressed file is for players (three.js:
+``GLTFLoader.setMeshoptDecoder``); catwalk's own readers (``read_body``, ``read_garments``,
+``catwalk render``) need the uncompressed file.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ from pathlib import Path
 from catwalk.errors import InputError, SetupError
 from catwalk.fileio import atomic_path
 
-GLTFPACK_ARGS = ("-cc", "-af", "0", "-kn", "-km")
+GLTFPACK_ARGS = ("-cc", "-af", "0", "-kn", "-km", "-kv", "-vtf")
 
 
 def gltfpack_script() -> Path:
@@ -73,12 +76,16 @@ def _run(cmd: list[str], cancel, timeout: float = 600.0) -> tuple[int, str]:
                     return -9, f"gltfpack took more than {timeout:g} s"
 
 
-def compress_bytes(data: bytes, cancel=None) -> tuple[bytes, dict]:
+def compress_bytes(data: bytes, cancel=None, workdir: str | Path | None = None
+                   ) -> tuple[bytes, dict]:
     """A meshopt-compressed copy of the .glb ``data`` and ``{"input_bytes", "output_bytes",
-    "ratio"}``."""
+    "ratio"}``; gltfpack's files go to a temporary folder in ``workdir`` (default: the
+    system's)."""
     import tempfile
 
-    with tempfile.TemporaryDirectory(prefix="catwalk-pack-") as tmp:
+    if workdir is not None:
+        Path(workdir).mkdir(parents=True, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix=".catwalk-pack-", dir=workdir) as tmp:
         src, dst = Path(tmp) / "in.glb", Path(tmp) / "out.glb"
         src.write_bytes(data)
         stats = compress_glb(src, dst, cancel)

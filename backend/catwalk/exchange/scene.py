@@ -128,7 +128,7 @@ class Scene:
         out = [("body", self.body_vertices_at(t), self.body.faces, SKIN_RGB)]
         for k, gm in enumerate(self.garments):
             rgb = self.garment_rgb[k] if k < len(self.garment_rgb) else None
-            out.append(gm.mesh_at_frame(gm.frame_at(t), rgb))
+            out.append(gm.mesh_at(gm.positions_at(t), rgb))   # interpolated, as players do
         return out
 
 

@@ -1,11 +1,23 @@
-"""Simulated garments in the try-on .glb: one mesh per garment, one morph target per frame.
+"""Simulated garments in the try-on .glb, laid out for browsers to play.
 
-A garment is written as one mesh node at the scene root (identity transform, named after the
-garment) whose mesh has one primitive per panel (its own material: the panel's texture, embedded,
-or its colour). The base positions are frame 0; frame *i* is morph target *i* (``POSITION``
-displacements from the base). A STEP ``weights`` channel in the body's animation clip (one clip
-for the whole scene) sets weight *i* to 1 and all others to 0 from ``times[i]`` on, so a player
-shows, at time *t*, the last frame whose time is ≤ *t* (the first one before it).
+Each garment is one or more *chunk* meshes whose morph targets are its frames: a chunk holds at
+most :data:`CHUNK_TARGETS` frames (WebGL2 guarantees only 256 texture layers and 256 vertex
+uniform vectors, and a player loops over every target of a mesh for every vertex), and
+consecutive chunks share one frame. A chunk's base positions are its first frame; target *j* is
+frame ``first + j`` (``POSITION`` and ``NORMAL`` displacements from the base, so every frame is
+lit with its own normals; the web copy leaves them out and the player computes them). Its
+``weights`` channel is LINEAR with one-hot keys at the frame
+times, so a player shows the positions interpolated between two frames, as the skinned body's
+joints are; its ``scale`` channel (STEP, 1 or 0) shows exactly one chunk at any time.
+
+Chunk nodes sit at the scene root with identity transforms: positions are world metres. (Local
+offsets under a node following the walker were tried: gltfpack quantises a morph displacement
+with its mesh's position step whatever its size, so they bought no precision, and the web copy
+of the 4 s dress grew from 1.61 to 2.12 MB.) Each target accessor has ``min``/``max``, so a
+player that takes a mesh's bounds from them with its targets (three.js's GLTFLoader does)
+keeps the garment drawn wherever it walks. Each primitive (one per panel) also carries
+``TEXCOORD_1``: each vertex's position in its flat cutting pattern (metres, unscaled: no
+material uses it), the rest shape a player measures stretch against (the fit map).
 
 See ``docs/tryon-format.md`` for the whole layout and how three.js plays it.
 """
@@ -32,7 +44,8 @@ from catwalk.render.raster import vertex_normals
 
 CLIP = "walk"
 FORMAT = "catwalk-tryon"
-VERSION = 1
+VERSION = 2
+CHUNK_TARGETS = 64   # morph targets per mesh at most
 
 
 @dataclass
@@ -52,11 +65,25 @@ class GarmentFrames:
     def frames(self) -> int:
         return int(np.asarray(self.positions).shape[0])
 
-    def frame_at(self, t: float) -> int:
-        """The frame shown at time ``t`` under STEP playback: the last frame with time ≤ t
-        (frame 0 before the first time)."""
-        i = int(np.searchsorted(np.asarray(self.times), t, side="right")) - 1
-        return max(i, 0)
+    def frame_at(self, t: float) -> tuple[int, float]:
+        """``(i, s)``: at time ``t`` a player shows frame ``i`` blended ``s`` (0 ≤ s < 1) of
+        the way to frame ``i + 1`` (LINEAR keys; clamped before the first and after the last
+        frame)."""
+        times = np.asarray(self.times, dtype=np.float64)
+        i = int(np.searchsorted(times, t, side="right")) - 1
+        if i < 0:
+            return 0, 0.0
+        if i >= len(times) - 1:
+            return len(times) - 1, 0.0
+        return i, float((t - times[i]) / (times[i + 1] - times[i]))
+
+    def positions_at(self, t: float) -> np.ndarray:
+        """(P, 3) positions at time ``t``, interpolated between frames as a player does."""
+        i, s = self.frame_at(t)
+        pos = np.asarray(self.positions)
+        if s == 0.0:
+            return np.asarray(pos[i], dtype=np.float64)
+        return (1.0 - s) * pos[i].astype(np.float64) + s * pos[i + 1].astype(np.float64)
 
     def check(self) -> None:
         """Raise :class:`InputError` naming the garment and the field that is wrong."""
@@ -134,11 +161,14 @@ class GarmentFrames:
     def mesh_at_frame(self, i: int, rgb=None) -> tuple[str, np.ndarray, np.ndarray, object]:
         """``(name, vertices, triangles, rgb)`` of frame ``i`` (rgb: per-vertex panel colours
         unless given), the tuple :meth:`catwalk.exchange.scene.Scene.meshes_at` returns."""
+        return self.mesh_at(np.asarray(self.positions[i], dtype=np.float64), rgb)
+
+    def mesh_at(self, vertices: np.ndarray, rgb=None) -> tuple[str, np.ndarray, np.ndarray,
+                                                               object]:
         if rgb is None:
             rgb = np.asarray([c[:3] for c in self.colors], dtype=np.float64)[
                 np.asarray(self.panel)]
-        return (self.name, np.asarray(self.positions[i], dtype=np.float64),
-                np.asarray(self.triangles, dtype=np.int64), rgb)
+        return (self.name, vertices, np.asarray(self.triangles, dtype=np.int64), rgb)
 
 
 def _float32_times(times) -> np.ndarray:
@@ -181,44 +211,25 @@ def _clip(builder: GlbBuilder, animation: int | None) -> int:
     return len(builder.gltf.animations) - 1
 
 
-def add_garment(builder: GlbBuilder, garment: GarmentFrames, animation: int | None, *,
-                morph_normals: bool = False) -> int:
-    """Add ``garment`` as a morph-target mesh node at the scene root; its STEP weights channel
-    goes into clip ``animation`` (None: the clip named ``walk``, made if missing). Returns the
-    node index. ``morph_normals`` also stores per-frame NORMAL displacements (doubles the size;
-    without them a player lights every frame with frame 0's normals)."""
-    garment.check()
-    pos = np.asarray(garment.positions, dtype=np.float32)
-    nframes = pos.shape[0]
-    tri_all = np.asarray(garment.triangles, dtype=np.int64)
-    panel = np.asarray(garment.panel)
-    texcoord = garment.texcoords()
+def chunk_spans(frames: int, size: int = CHUNK_TARGETS) -> list[tuple[int, int]]:
+    """``(first, last)`` frames of each chunk: at most ``size`` frames, consecutive chunks
+    sharing one frame (so a player interpolates across the seam between two)."""
+    if frames <= size:
+        return [(0, frames - 1)]
+    spans, first = [], 0
+    while first < frames - 1:
+        last = min(first + size - 1, frames - 1)
+        spans.append((first, last))
+        first = last
+    return spans
+
+
+def _panel_materials(builder: GlbBuilder, garment: GarmentFrames) -> tuple[list[int], list]:
+    """One material per panel (its texture embedded once per image, or its colour) and the
+    panels' metadata for the mesh extras."""
     images: dict[str, int] = {}
-    primitives = []
-    panels_meta = []
-    tri_panel = panel[tri_all[:, 0]]
+    materials, meta = [], []
     for i, pname in enumerate(garment.panel_names):
-        idx = garment.panel_points(i)
-        local = np.full(len(panel), -1, dtype=np.int64)
-        local[idx] = np.arange(len(idx))
-        tri = local[tri_all[tri_panel == i]]
-        base = pos[0, idx]
-        normals = _unit_normals(base, tri)
-        attrs = g.Attributes(
-            POSITION=builder.accessor(base, target=g.ARRAY_BUFFER, minmax=True),
-            NORMAL=builder.accessor(normals.astype(np.float32), target=g.ARRAY_BUFFER),
-            TEXCOORD_0=builder.accessor(texcoord[idx], target=g.ARRAY_BUFFER))
-        disp = pos[:, idx] - base[None]
-        targets_pos = builder.stacked_accessors(disp, target=g.ARRAY_BUFFER, minmax=True)
-        if morph_normals:
-            nrm = np.stack([normals if f == 0 else _unit_normals(pos[f, idx], tri)
-                            for f in range(nframes)])
-            targets_nrm = builder.stacked_accessors((nrm - normals[None]).astype(np.float32),
-                                                    target=g.ARRAY_BUFFER)
-            targets = [{"POSITION": a, "NORMAL": b} for a, b in zip(targets_pos, targets_nrm,
-                                                                      strict=True)]
-        else:
-            targets = [{"POSITION": a} for a in targets_pos]
         rgba = [float(x) for x in garment.colors[i]]
         tex = garment.textures[i]
         mat = builder.material(f"{garment.name}/{pname}", rgba if tex is None
@@ -234,41 +245,126 @@ def add_garment(builder: GlbBuilder, garment: GarmentFrames, animation: int | No
                     builder.image(data, mime, name=Path(tex[0]).name))
             material.pbrMetallicRoughness.baseColorTexture = g.TextureInfo(index=images[key],
                                                                            texCoord=0)
+        materials.append(mat)
+        # the image's file name only: the file's bytes do not depend on where it was made
+        meta.append({"name": pname, "color": rgba,
+                     "texture": None if tex is None else {
+                         "image": Path(tex[0]).name,
+                         "size": [float(tex[1][0]), float(tex[1][1])]}})
+    return materials, meta
+
+
+def _chunk_mesh(builder: GlbBuilder, garment: GarmentFrames, local: np.ndarray,
+                span: tuple[int, int], materials: list[int], panels_meta: list,
+                chunk: int, chunks: int, normals: bool) -> int:
+    """The mesh of frames ``span`` (local positions, (F, P, 3)): one primitive per panel;
+    ``normals``: NORMAL targets too (else every frame has the first frame's normals)."""
+    first, last = span
+    frames = local[first:last + 1]
+    tri_all = np.asarray(garment.triangles, dtype=np.int64)
+    panel = np.asarray(garment.panel)
+    texcoord = garment.texcoords()
+    pattern = np.asarray(garment.uv, dtype=np.float32)
+    tri_panel = panel[tri_all[:, 0]]
+    primitives = []
+    for i in range(len(garment.panel_names)):
+        idx = garment.panel_points(i)
+        where = np.full(len(panel), -1, dtype=np.int64)
+        where[idx] = np.arange(len(idx))
+        tri = where[tri_all[tri_panel == i]]
+        pts = frames[:, idx]
+        nrm = np.stack([_unit_normals(f, tri) for f in (pts if normals else pts[:1])]
+                       ).astype(np.float32)
+        base, base_n = pts[0], nrm[0]
+        attrs = g.Attributes(
+            POSITION=builder.accessor(base, target=g.ARRAY_BUFFER, minmax=True),
+            NORMAL=builder.accessor(base_n, target=g.ARRAY_BUFFER),
+            TEXCOORD_0=builder.accessor(texcoord[idx], target=g.ARRAY_BUFFER))
+        attrs.TEXCOORD_1 = builder.accessor(np.ascontiguousarray(pattern[idx]),
+                                            target=g.ARRAY_BUFFER)
+        t_pos = builder.stacked_accessors(pts - base[None], target=g.ARRAY_BUFFER, minmax=True)
+        targets = [{"POSITION": a} for a in t_pos]
+        if normals:
+            t_nrm = builder.stacked_accessors(nrm - base_n[None], target=g.ARRAY_BUFFER)
+            for t, b in zip(targets, t_nrm, strict=True):
+                t["NORMAL"] = b
         primitives.append(g.Primitive(
-            attributes=attrs, targets=targets, material=mat, mode=g.TRIANGLES,
+            attributes=attrs, material=materials[i], mode=g.TRIANGLES, targets=targets,
             indices=builder.accessor(tri.astype(np.uint32).reshape(-1),
                                      target=g.ELEMENT_ARRAY_BUFFER)))
-        panels_meta.append({
-            "name": pname, "color": rgba,
-            "texture": None if tex is None else {"image": str(tex[0]),
-                                                 "size": [float(tex[1][0]), float(tex[1][1])]}})
-    extras = {"targetNames": [f"frame{f:04d}" for f in range(nframes)],
-              "catwalk": {"garment": garment.name, "frames": nframes, "panels": panels_meta,
+    n = last - first + 1
+    extras = {"targetNames": [f"frame{f:04d}" for f in range(first, last + 1)],
+              "catwalk": {"garment": garment.name, "chunk": chunk, "chunks": chunks,
+                          "first_frame": first, "frames": n, "morph_normals": normals,
+                          "panels": panels_meta,
                           "uv": "TEXCOORD_0 = (u / w, -v / h): pattern metres over the "
-                                "texture size (1 m without a texture)"}}
-    builder.gltf.meshes.append(g.Mesh(name=garment.name, primitives=primitives, extras=extras))
-    node = builder.node(g.Node(name=garment.name, mesh=len(builder.gltf.meshes) - 1), root=True)
+                                "texture size (1 m without a texture); TEXCOORD_1 = (u, v): "
+                                "pattern metres (the rest shape, for the fit map)"}}
+    builder.gltf.meshes.append(g.Mesh(name=f"{garment.name}#{chunk}", primitives=primitives,
+                                      extras=extras))
+    return len(builder.gltf.meshes) - 1
 
-    clip = builder.gltf.animations[_clip(builder, animation)]
+
+def _channel(builder: GlbBuilder, clip: int, node: int, path: str, times: np.ndarray,
+             values: np.ndarray, interpolation: str) -> None:
+    anim = builder.gltf.animations[clip]
+    anim.samplers.append(g.AnimationSampler(
+        input=builder.accessor(np.asarray(times, dtype=np.float32), minmax=True),
+        output=builder.accessor(np.ascontiguousarray(values, dtype=np.float32)),
+        interpolation=interpolation))
+    anim.channels.append(g.AnimationChannel(sampler=len(anim.samplers) - 1,
+                                            target=g.AnimationChannelTarget(node=node,
+                                                                            path=path)))
+
+
+def add_garment(builder: GlbBuilder, garment: GarmentFrames, animation: int | None,
+                normals: bool = True) -> list[int]:
+    """Add ``garment`` as chunk meshes at the scene root; their LINEAR weights and STEP scale
+    channels go into clip ``animation`` (None: the clip named ``walk``, made if missing).
+    ``normals``: NORMAL morph targets (per-frame lighting in any player; without them — the
+    web copy, 40 % of the size — the player computes them). Returns the chunk nodes."""
+    garment.check()
+    local = np.asarray(garment.positions, dtype=np.float32)
     times = _float32_times(garment.times)
-    weights = np.eye(nframes, dtype=np.float32).reshape(-1)   # key i: weight i = 1
-    clip.samplers.append(g.AnimationSampler(input=builder.accessor(times, minmax=True),
-                                            output=builder.accessor(weights),
-                                            interpolation="STEP"))
-    clip.channels.append(g.AnimationChannel(
-        sampler=len(clip.samplers) - 1,
-        target=g.AnimationChannelTarget(node=node, path="weights")))
-    return node
+    materials, panels_meta = _panel_materials(builder, garment)
+    spans = chunk_spans(len(times))
+    nodes = []
+    for k, span in enumerate(spans):
+        mesh = _chunk_mesh(builder, garment, local, span, materials, panels_meta, k,
+                           len(spans), normals)
+        node = builder.node(g.Node(name=f"{garment.name}#{k}", mesh=mesh), root=True)
+        nodes.append(node)
+        first, last = span
+        n = last - first + 1
+        if len(times) > 1:
+            clip = _clip(builder, animation)
+            _channel(builder, clip, node, "weights", times[first:last + 1],
+                     np.eye(n, dtype=np.float32).reshape(-1), "LINEAR")
+            if len(spans) > 1:   # shown from its first frame until the next chunk's
+                keys, scale = [times[0]], [0.0 if k else 1.0]
+                if k:
+                    keys.append(times[first])
+                    scale.append(1.0)
+                if k < len(spans) - 1:
+                    keys.append(times[spans[k + 1][0]])
+                    scale.append(0.0)
+                _channel(builder, clip, node, "scale", np.asarray(keys),
+                         np.repeat(np.asarray(scale, np.float32)[:, None], 3, axis=1),
+                         "STEP")
+    return nodes
 
 
 def build_tryon(body: Body, motion: Motion | None, garments: list[GarmentFrames], *,
-                extras: dict | None = None, morph_normals: bool = False) -> GlbBuilder:
-    """The try-on scene in a :class:`GlbBuilder` (not yet written)."""
+                extras: dict | None = None, normals: bool = True) -> GlbBuilder:
+    """The try-on scene in a :class:`GlbBuilder` (not yet written); ``normals``: the
+    garments' per-frame NORMAL targets (:func:`add_garment`)."""
     names = [gm.name for gm in garments]
     if len(set(names)) != len(names):
         raise InputError(f"garment names must be unique, got {names}")
     if "body" in names:
         raise InputError("a garment cannot be named 'body'")
+    if any("#" in n for n in names):
+        raise InputError(f"garment names cannot contain '#' (it numbers the chunks): {names}")
     b = GlbBuilder()
     _, joint_nodes = add_body(b, body)
     clip = None
@@ -279,93 +375,127 @@ def build_tryon(body: Body, motion: Motion | None, garments: list[GarmentFrames]
             raise InputError(f"the motion has {motion.rotations.shape[1]} joints, the body's "
                              f"skeleton {len(joint_nodes)}")
         clip = add_motion(b, motion, joint_nodes, name=CLIP)
-    for gm in garments:
-        add_garment(b, gm, clip, morph_normals=morph_normals)
-        clip = _clip(b, clip)
+    for gm in garments:   # the clip "walk" is made by the first channel that needs it
+        add_garment(b, gm, clip, normals)
     b.gltf.extras = {"catwalk": {"format": FORMAT, "version": VERSION, "garments": names,
                                  **(extras or {})}}
     return b
 
 
 def write_tryon(path, body: Body, motion: Motion | None, garments: list[GarmentFrames], *,
-                extras: dict | None = None, morph_normals: bool = False) -> None:
+                extras: dict | None = None, normals: bool = True) -> None:
     """Write the dressed, walking body as one .glb (atomically): the skinned body, its
-    skeleton, each garment as a morph-target mesh and one clip ``walk`` driving both.
+    skeleton, each garment as chunk meshes, one clip ``walk`` driving all.
     ``extras`` go to the file's top-level ``extras.catwalk``."""
-    build_tryon(body, motion, garments, extras=extras, morph_normals=morph_normals).save(path)
+    build_tryon(body, motion, garments, extras=extras, normals=normals).save(path)
 
 
 def tryon_bytes(body: Body, motion: Motion | None, garments: list[GarmentFrames], *,
-                extras: dict | None = None, morph_normals: bool = False) -> bytes:
+                extras: dict | None = None, normals: bool = True) -> bytes:
     """The .glb :func:`write_tryon` writes, as bytes."""
-    return build_tryon(body, motion, garments, extras=extras,
-                       morph_normals=morph_normals).to_bytes()
+    return build_tryon(body, motion, garments, extras=extras, normals=normals).to_bytes()
 
 
 # ----------------------------------------------------------------------------- reading
 
-def _weights_channel(gltf: g.GLTF2, node: int):
+def _channel_of(gltf: g.GLTF2, node: int, path: str):
+    """The sampler animating ``path`` of ``node``, or None."""
     for anim in gltf.animations or []:
         for ch in anim.channels:
-            if ch.target.node == node and ch.target.path == "weights":
-                return anim, anim.samplers[ch.sampler]
-    return None, None
+            if ch.target.node == node and ch.target.path == path:
+                return anim.samplers[ch.sampler]
+    return None
+
+
+def _chunk_frames(gltf: g.GLTF2, blob: bytes, mesh: g.Mesh, path: str, who: str):
+    """Per panel: (frames, points, 3) local positions of a chunk mesh (base + each target)."""
+    out = []
+    n = len(mesh.primitives[0].targets or [])
+    if n == 0:
+        raise InputError(f"{path}: garment {who!r} has no morph targets")
+    for prim in mesh.primitives:
+        if len(prim.targets or []) != n:
+            raise InputError(f"{path}: garment {who!r}: primitives have different morph "
+                             "target counts")
+        base = _read_accessor(gltf, blob, prim.attributes.POSITION).astype(np.float64)
+        disp = np.stack([_read_accessor(gltf, blob, t["POSITION"]) for t in prim.targets])
+        out.append(base[None] + disp)
+    return out
+
+
+def _panels(gltf: g.GLTF2, blob: bytes, mesh: g.Mesh):
+    """Triangles, pattern coordinates, panel index, textures, colours and names of a chunk
+    mesh's primitives (the same in every chunk of a garment)."""
+    meta = mesh.extras["catwalk"]
+    panels = meta.get("panels") or [{} for _ in mesh.primitives]
+    tri_parts, uv_parts, panel_parts, textures, colors, names = [], [], [], [], [], []
+    offset = 0
+    for pi, prim in enumerate(mesh.primitives):
+        pm = panels[pi] if pi < len(panels) else {}
+        n = gltf.accessors[prim.attributes.POSITION].count
+        tri = _read_accessor(gltf, blob, prim.indices).astype(np.int64).reshape(-1, 3)
+        tri_parts.append(tri + offset)
+        tex = pm.get("texture")
+        size = (1.0, 1.0) if not tex else tuple(tex["size"])
+        pattern = prim.attributes.TEXCOORD_1
+        if pattern is not None:
+            uv_parts.append(_read_accessor(gltf, blob, pattern).astype(np.float64))
+        else:
+            tc = _read_accessor(gltf, blob, prim.attributes.TEXCOORD_0).astype(np.float64)
+            uv_parts.append(np.stack([tc[:, 0] * size[0], -tc[:, 1] * size[1]], axis=1))
+        panel_parts.append(np.full(n, pi, dtype=np.int32))
+        textures.append(None if not tex else (tex["image"], size))
+        colors.append(tuple(pm.get("color", (0.7, 0.7, 0.7, 1.0))))
+        names.append(pm.get("name", f"panel{pi}"))
+        offset += n
+    return (np.concatenate(tri_parts), np.concatenate(uv_parts),
+            np.concatenate(panel_parts), textures, colors, names)
 
 
 def read_garments(path) -> list[GarmentFrames]:
-    """The garments of a try-on .glb written by :func:`write_tryon`: positions of frame *i* =
-    base + the morph target that the weights channel switches on at key *i*. Points come back
-    grouped by panel (in the order written: stable by panel index); textures name the image
-    file as it was written (the image itself is embedded in the .glb)."""
+    """The garments of a try-on .glb written by :func:`write_tryon`: each chunk's base +
+    its targets, the chunks' frames joined. Points come back grouped by panel (in the order
+    written); textures name the image file as it was written (the image itself is embedded
+    in the .glb)."""
     gltf, blob = load_glb(path)
     path = source_name(path, "try-on")
-    out = []
+    top = (gltf.extras or {}).get("catwalk") or {}
+    if top.get("format") == FORMAT and top.get("version") != VERSION:
+        raise InputError(f"{path}: try-on format version {top.get('version')}; this catwalk "
+                         f"reads version {VERSION} (make the try-on again)")
+    chunks: dict[str, list] = {}
     for ni, node in enumerate(gltf.nodes):
-        if node.mesh is None:
-            continue
-        mesh = gltf.meshes[node.mesh]
-        meta = (mesh.extras or {}).get("catwalk") or {}
-        if "garment" not in meta:
-            continue
-        anim, sampler = _weights_channel(gltf, ni)
-        ntargets = len(mesh.primitives[0].targets or [])
-        if ntargets == 0:
-            raise InputError(f"{path}: garment {meta['garment']!r} has no morph targets")
-        if sampler is None:
-            times = np.zeros(1)
-            order = np.zeros(1, dtype=np.int64)
-        else:
-            times = _read_accessor(gltf, blob, sampler.input).astype(np.float64)
-            w = _read_accessor(gltf, blob, sampler.output).reshape(len(times), ntargets)
-            order = np.argmax(w, axis=1)
-        panels = meta.get("panels") or [{} for _ in mesh.primitives]
-        pos_parts, tri_parts, uv_parts, panel_parts = [], [], [], []
-        textures, colors, names = [], [], []
-        offset = 0
-        for pi, prim in enumerate(mesh.primitives):
-            pm = panels[pi] if pi < len(panels) else {}
-            base = _read_accessor(gltf, blob, prim.attributes.POSITION).astype(np.float64)
-            if len(prim.targets or []) != ntargets:
-                raise InputError(f"{path}: garment {meta['garment']!r}: primitives have "
-                                 "different morph target counts")
-            disp = np.stack([_read_accessor(gltf, blob, t["POSITION"]) for t in prim.targets])
-            pos_parts.append(base[None] + disp[order])
-            tri = _read_accessor(gltf, blob, prim.indices).astype(np.int64).reshape(-1, 3)
-            tri_parts.append(tri + offset)
-            tex = pm.get("texture")
-            size = (1.0, 1.0) if not tex else tuple(tex["size"])
-            tc = _read_accessor(gltf, blob, prim.attributes.TEXCOORD_0).astype(np.float64)
-            uv_parts.append(np.stack([tc[:, 0] * size[0], -tc[:, 1] * size[1]], axis=1))
-            panel_parts.append(np.full(len(base), pi, dtype=np.int32))
-            textures.append(None if not tex else (tex["image"], size))
-            colors.append(tuple(pm.get("color", (0.7, 0.7, 0.7, 1.0))))
-            names.append(pm.get("name", f"panel{pi}"))
-            offset += len(base)
-        out.append(GarmentFrames(
-            name=node.name or meta["garment"], triangles=np.concatenate(tri_parts),
-            uv=np.concatenate(uv_parts), panel=np.concatenate(panel_parts), panel_names=names,
-            textures=textures, colors=colors, times=times,
-            positions=np.concatenate(pos_parts, axis=1)))
+        meta = ((gltf.meshes[node.mesh].extras or {}).get("catwalk") or {}
+                if node.mesh is not None else {})
+        if "garment" in meta:
+            chunks.setdefault(meta["garment"], []).append((int(meta.get("chunk", 0)), ni))
+    out = []
+    for name, found in chunks.items():
+        found.sort()
+        first_mesh = gltf.meshes[gltf.nodes[found[0][1]].mesh]
+        tri, uv, panel, textures, colors, names = _panels(gltf, blob, first_mesh)
+        frames: dict[int, np.ndarray] = {}
+        times: dict[int, float] = {}
+        for _, ni in found:
+            mesh = gltf.meshes[gltf.nodes[ni].mesh]
+            first = int(mesh.extras["catwalk"].get("first_frame", 0))
+            local = np.concatenate(_chunk_frames(gltf, blob, mesh, path, name), axis=1)
+            sampler = _channel_of(gltf, ni, "weights")
+            t = (np.zeros(1) if sampler is None else
+                 _read_accessor(gltf, blob, sampler.input).astype(np.float64))
+            if len(t) != len(local):
+                raise InputError(f"{path}: garment {name!r}: {len(local)} frames but "
+                                 f"{len(t)} keys")
+            for j in range(len(local)):
+                frames[first + j] = local[j]
+                times[first + j] = float(t[j])
+        order = sorted(frames)
+        if order != list(range(len(order))):
+            raise InputError(f"{path}: garment {name!r}: its chunks leave frames out")
+        out.append(GarmentFrames(name=name, triangles=tri, uv=uv, panel=panel,
+                                 panel_names=names, textures=textures, colors=colors,
+                                 times=np.array([times[i] for i in order]),
+                                 positions=np.stack([frames[i] for i in order])))
     return out
 
 
@@ -393,15 +523,16 @@ def embedded_images(path) -> dict[int, np.ndarray]:
 
 
 def panel_texture_images(path) -> dict[str, list[int | None]]:
-    """Per garment (by node name), per panel: the index of the embedded image its material
-    uses as base colour, or None."""
+    """Per garment (by name), per panel: the index of the embedded image its material uses
+    as base colour, or None."""
     gltf, _ = load_glb(path)
     out = {}
     for node in gltf.nodes:
         if node.mesh is None:
             continue
         mesh = gltf.meshes[node.mesh]
-        if "garment" not in ((mesh.extras or {}).get("catwalk") or {}):
+        meta = (mesh.extras or {}).get("catwalk") or {}
+        if "garment" not in meta or meta["garment"] in out:
             continue
         idx = []
         for prim in mesh.primitives:
@@ -411,5 +542,5 @@ def panel_texture_images(path) -> dict[str, list[int | None]]:
                 if pbr is not None and pbr.baseColorTexture is not None:
                     im = gltf.textures[pbr.baseColorTexture.index].source
             idx.append(im)
-        out[node.name] = idx
+        out[meta["garment"]] = idx
     return out

@@ -157,6 +157,16 @@ def build_catalogue(root: str | Path | None = None, only: list[str] | None = Non
 
 
 def catalogue_files(root: str | Path | None = None) -> list[Path]:
+    """The garment files in the catalogue folder (a file that cannot be parsed is listed too,
+    so that reading it reports what is wrong with it)."""
     root = Path(root) if root else catalogue_dir()
-    return sorted(p for p in root.glob("*.json") if json.loads(p.read_text()).get("format")
-                  == "catwalk-garment")
+    out = []
+    for p in sorted(root.glob("*.json")):
+        try:
+            data = json.loads(p.read_text())
+        except (OSError, ValueError):
+            out.append(p)
+            continue
+        if isinstance(data, dict) and data.get("format") == "catwalk-garment":
+            out.append(p)
+    return out

@@ -42,9 +42,11 @@ def infer_sex(m: dict) -> str:
 
 
 def _write_body(body, out: Path) -> None:
-    from catwalk.exchange.gltf import write_glb
+    """The body's .glb, written whole, readable by the service's user only."""
+    from catwalk.exchange.gltf import glb_bytes
+    from catwalk.service.storage import Storage
 
-    write_glb(out, body)
+    Storage(out.parent).write(out, glb_bytes(body))
 
 
 def make_from_measurements(out: str, sex: str, values: dict) -> dict:
@@ -107,22 +109,33 @@ class BodyMaker:
         self._get().submit(_warm)
 
     async def run(self, fn, *args, timeout: float):
+        """``fn(*args)`` in a pool process. Over ``timeout``: :class:`TimeoutError`, and the
+        process making it is stopped (so it writes nothing afterwards) — other requests that
+        were waiting in the pool are sent to a fresh one, not failed."""
         loop = asyncio.get_running_loop()
-        fut = self._get().submit(fn, *args)
-        try:
-            return await asyncio.wait_for(asyncio.wrap_future(fut, loop=loop), timeout)
-        except concurrent.futures.process.BrokenProcessPool:
-            self._pool = None    # the next body gets a fresh pool
-            raise
+        deadline = loop.time() + timeout
+        for _ in range(3):
+            pool = self._get()
+            fut = pool.submit(fn, *args)
+            try:
+                return await asyncio.wait_for(asyncio.wrap_future(fut, loop=loop),
+                                              max(0.0, deadline - loop.time()))
+            except TimeoutError:
+                if not fut.cancel():        # it was running: stop the process running it
+                    self._reset(pool)
+                raise
+            except (concurrent.futures.process.BrokenProcessPool,
+                    concurrent.futures.CancelledError):
+                self._reset(pool)          # another request's reset, or a crash: try again
+        raise TimeoutError("the body pool kept failing")
 
-    def reset(self) -> None:
-        """Stop the pool's processes now (a body that took too long), and start afresh on
-        the next body."""
-        pool, self._pool = self._pool, None
-        if pool is not None:
-            for proc in list(getattr(pool, "_processes", {}).values()):
-                proc.terminate()
-            pool.shutdown(wait=False, cancel_futures=True)
+    def _reset(self, pool) -> None:
+        """Stop ``pool``'s processes now; the next request gets a fresh pool."""
+        if self._pool is pool:
+            self._pool = None
+        for proc in list(getattr(pool, "_processes", {}).values()):
+            proc.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
 
     def close(self) -> None:
         if self._pool is not None:

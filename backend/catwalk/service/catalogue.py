@@ -7,14 +7,18 @@ is read once and read again when a file in the folder changes.
 
 from __future__ import annotations
 
+import json
+import logging
 import threading
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from catwalk.config import Config
-from catwalk.errors import InputError
+from catwalk.errors import CatwalkError, InputError
 from catwalk.garment.model import Garment
 from catwalk.service.keys import sha256
+
+log = logging.getLogger("catwalk.catalogue")
 
 
 @dataclass
@@ -75,7 +79,12 @@ class Catalogue:
         fabrics = fabric_choices()
         out = {}
         for path in catalogue_files(self.root):
-            g = load_garment(path)
+            try:
+                g = load_garment(path)
+            except CatwalkError as exc:   # one broken file does not take the others down
+                log.warning(json.dumps({"event": "garment_skipped", "file": path.name,
+                                        "error": str(exc)[:300]}))
+                continue
             own = g.fabric if isinstance(g.fabric, str) else "custom"
             out[path.stem] = Entry(path.stem, garment_version(path, g), path, g, own,
                                    [own] + [f for f in fabrics if f != own])

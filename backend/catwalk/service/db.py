@@ -1,7 +1,9 @@
 """The database: one engine per process, sessions, and migrations to the newest schema.
 
 SQLite (the embedded default, a file in the storage folder) or PostgreSQL (by URL). An engine
-is made per process id, so forked worker processes never share a parent's connections. SQLite
+is made per process id, so forked worker processes never share a parent's connections, and
+with ``hide_parameters``: an error's message never carries a row's values (a body's
+measurements) into a log. SQLite
 runs in WAL mode with a busy timeout, so the API, its threads and the worker processes can
 write to one file. :func:`migrate` brings the schema up to date with Alembic (run by
 ``catwalk serve``, ``catwalk worker`` and the API at start; concurrent runs wait for one
@@ -40,6 +42,7 @@ def _sqlite_pragmas(dbapi_conn, _record) -> None:
     cur.execute("PRAGMA busy_timeout=30000")
     cur.execute("PRAGMA foreign_keys=ON")
     cur.execute("PRAGMA synchronous=NORMAL")
+    cur.execute("PRAGMA secure_delete=ON")   # a deleted body's measurements are overwritten
     cur.close()
 
 
@@ -54,10 +57,11 @@ def engine_for(url: str) -> tuple[Engine, sessionmaker]:
                 if path and path != ":memory:":
                     Path(path).parent.mkdir(parents=True, exist_ok=True)
                 eng = create_engine(url, connect_args={"check_same_thread": False,
-                                                       "timeout": 30})
+                                                       "timeout": 30}, hide_parameters=True)
                 event.listen(eng, "connect", _sqlite_pragmas)
             else:
-                eng = create_engine(url, pool_pre_ping=True, pool_size=10, max_overflow=20)
+                eng = create_engine(url, pool_pre_ping=True, pool_size=10, max_overflow=20,
+                                    hide_parameters=True)
             got = (eng, sessionmaker(eng, expire_on_commit=False))
             _engines[key] = got
         return got

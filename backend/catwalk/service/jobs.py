@@ -15,6 +15,7 @@ the job is still its own attempt, running. A job whose worker died is run again 
 from __future__ import annotations
 
 import secrets
+import threading
 from datetime import timedelta
 
 from sqlalchemy import and_, case, delete, func, or_, select, update
@@ -104,15 +105,27 @@ def finish(config: Config, job_id: str, attempt: int, key: str, metrics: dict,
     now = utcnow()
     with db.session(config) as s:
         res = s.execute(
-            update(TryOnRow).where(*_mine(job_id, attempt))
+            update(TryOnRow).where(*_mine(job_id, attempt), TryOnRow.cancel_requested.is_(False))
             .values(status="done", progress=1.0, stage="done", finished_at=now,
                     heartbeat_at=now)
             .execution_options(synchronize_session=False))
         if res.rowcount != 1:
             return False
-        if s.get(ResultRow, key) is None:
-            s.add(ResultRow(key=key, metrics=metrics, **sizes))
+        # two jobs of one key (two bodies of the same content) may finish together: the first
+        # row stays (the simulation is deterministic: the same bytes, the same metrics but for
+        # wall-clock times)
+        s.execute(_insert_ignoring(s, ResultRow).values(key=key, metrics=metrics,
+                                                        created_at=now, **sizes))
         return True
+
+
+def _insert_ignoring(session, table):
+    """INSERT … ON CONFLICT DO NOTHING, in the session's dialect."""
+    if session.bind.dialect.name == "postgresql":
+        from sqlalchemy.dialects.postgresql import insert
+    else:
+        from sqlalchemy.dialects.sqlite import insert
+    return insert(table).on_conflict_do_nothing()
 
 
 def end(config: Config, job_id: str, attempt: int, status: str, error: str | None) -> bool:
@@ -150,15 +163,28 @@ def result_in_use(config: Config, key: str) -> bool:
 def recover(config: Config, send, queued_in_broker) -> dict:
     """One pass of recovery. Jobs running with a heartbeat older than ``job_stale_s`` go back
     to the queue (or fail after ``MAX_ATTEMPTS``); queued jobs older than ``requeue_after_s``
-    are sent again when the broker holds no message (it lost them). ``send(job_id)`` enqueues,
-    ``queued_in_broker()`` counts the broker's messages (None: unknown). Returns what it did."""
+    are sent again when the broker holds fewer messages than there are such jobs (it lost
+    some). A job that has run longer than the hard time limit is failed, not run again: it was
+    killed for its time. ``send(job_id)`` enqueues, ``queued_in_broker()`` counts the broker's
+    messages (None: unknown). Returns what it did."""
     now = utcnow()
     stale = now - timedelta(seconds=config.job_stale_s)
     done = {"requeued": [], "failed": [], "resent": []}
     with db.session(config) as s:
         dead = s.scalars(select(TryOnRow.id).where(TryOnRow.status == "running",
                                                    TryOnRow.heartbeat_at < stale)).all()
+        too_long = now - timedelta(seconds=config.job_time_limit_s)
         for job_id in dead:
+            res = s.execute(
+                update(TryOnRow).where(TryOnRow.id == job_id, TryOnRow.status == "running",
+                                       TryOnRow.heartbeat_at < stale,
+                                       TryOnRow.started_at < too_long)
+                .values(status="failed", stage="failed", finished_at=now,
+                        error=f"over the {config.job_time_limit_s:g} s time limit")
+                .execution_options(synchronize_session=False))
+            if res.rowcount:
+                done["failed"].append(job_id)
+                continue
             res = s.execute(
                 update(TryOnRow).where(TryOnRow.id == job_id, TryOnRow.status == "running",
                                        TryOnRow.heartbeat_at < stale,
@@ -189,7 +215,8 @@ def recover(config: Config, send, queued_in_broker) -> dict:
         send(job_id)
     if waiting:
         held = queued_in_broker()
-        if held == 0:
+        if held is not None and held < len(waiting):   # some were lost: send them all again
+            # (a duplicate finds its job claimed or ended and does nothing)
             with db.session(config) as s:
                 s.execute(update(TryOnRow).where(TryOnRow.id.in_(waiting),
                                                  TryOnRow.status == "queued")
@@ -200,13 +227,24 @@ def recover(config: Config, send, queued_in_broker) -> dict:
     return done
 
 
+# In one process (the SQLite default: one API process) the cached answer and the deletion of a
+# result take turns here; on PostgreSQL the result's row is locked (SELECT … FOR UPDATE).
+RESULTS_LOCK = threading.Lock()
+
+
+def lock_result(session, key: str) -> ResultRow | None:
+    """The result's row, locked until the session ends (PostgreSQL; SQLite: RESULTS_LOCK)."""
+    return session.scalars(select(ResultRow).where(ResultRow.key == key)
+                           .with_for_update()).first()
+
+
 def delete_for_body(config: Config, body_id: str) -> list[str]:
     """Delete the body's try-ons (a running one is asked to stop; its worker finds its row
-    gone) and return the result keys no other try-on uses any more."""
-    with db.session(config) as s:
-        rows = s.execute(select(TryOnRow.id, TryOnRow.key).where(TryOnRow.body_id == body_id)
-                         ).all()
-        keys = {k for _, k in rows}
+    gone) and return the result keys no other try-on uses any more (their rows deleted)."""
+    with RESULTS_LOCK, db.session(config) as s:
+        keys = sorted(set(s.scalars(select(TryOnRow.key).where(TryOnRow.body_id == body_id))))
+        for key in keys:   # in key order: two deletions never wait for each other in a circle
+            lock_result(s, key)
         s.execute(delete(TryOnRow).where(TryOnRow.body_id == body_id)
                   .execution_options(synchronize_session=False))
         orphaned = []

@@ -18,7 +18,6 @@ The task carries only the job's id.
 
 from __future__ import annotations
 
-import contextlib
 import functools
 
 from celery import Celery
@@ -52,7 +51,8 @@ def celery_app(config: Config) -> Celery:
         worker_prefetch_multiplier=1,
         task_ignore_result=True,
         task_time_limit=config.job_time_limit_s,
-        task_soft_time_limit=max(1.0, config.job_time_limit_s - 30.0),
+        # the soft limit fails the job with its reason before the hard one kills the process
+        task_soft_time_limit=config.job_time_limit_s - min(30.0, 0.1 * config.job_time_limit_s),
         broker_transport_options=_transport_options(config),
         broker_connection_retry_on_startup=True,
         broker_connection_timeout=5,
@@ -76,13 +76,19 @@ def send(config: Config, job_id: str) -> None:
 
 
 def queued_messages(config: Config) -> int | None:
-    """How many messages wait in the broker's queue (None when it cannot be told)."""
+    """How many messages wait in the broker's queue (None when it cannot be told). Redis
+    deletes an empty list, so there an empty queue answers NOT_FOUND: 0 messages."""
+    from kombu.exceptions import ChannelError
+
     app = celery_app(config)
-    with contextlib.suppress(Exception):
+    try:
         with app.connection_for_write() as conn:
             ok = conn.default_channel.queue_declare(queue=config.queue, passive=True)
             return int(ok.message_count)
-    return None
+    except ChannelError as exc:
+        return 0 if "NOT_FOUND" in str(exc) else None
+    except Exception:
+        return None
 
 
 def ping(config: Config) -> None:

@@ -25,6 +25,15 @@ from catwalk.config import get_config
 log = logging.getLogger("catwalk.serve")
 
 
+def _die_with_parent() -> None:
+    """(In the child, before exec.) SIGTERM when `catwalk serve` dies, even by SIGKILL
+    (Linux's PR_SET_PDEATHSIG), so no worker outlives its service."""
+    import ctypes
+
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)   # PR_SET_PDEATHSIG
+
+
 class WorkerProcess(threading.Thread):
     """Keeps one ``catwalk worker --concurrency N`` child running."""
 
@@ -37,7 +46,7 @@ class WorkerProcess(threading.Thread):
     def _start(self) -> subprocess.Popen:
         cmd = [sys.executable, "-m", "catwalk.cli", "worker",
                f"--concurrency={self.concurrency}"]
-        return subprocess.Popen(cmd, start_new_session=True)
+        return subprocess.Popen(cmd, start_new_session=True, preexec_fn=_die_with_parent)
 
     def run(self) -> None:
         backoff = 1.0

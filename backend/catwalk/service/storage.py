@@ -57,10 +57,35 @@ class Storage:
 
     # -- writing
     def write(self, path: Path, data: bytes) -> Path:
-        """Write ``data`` to ``path`` atomically (folders made as needed)."""
+        """Write ``data`` to ``path`` atomically (folders made as needed), readable by the
+        service's user only."""
         with atomic_path(path) as tmp:
             tmp.write_bytes(data)
+            os.chmod(tmp, 0o600)
         return path
+
+    def sweep(self, older_than_s: float = 3600.0) -> int:
+        """Remove what a process killed mid-write left: ``.name.*`` temporaries under
+        ``bodies/`` and ``results/`` older than ``older_than_s``. Returns how many."""
+        import time
+
+        now, gone = time.time(), 0
+        for top in ("bodies", "results", "thumbnails"):
+            root = self.root / top
+            if not root.is_dir():
+                continue
+            for p in root.rglob(".*"):
+                try:
+                    if now - p.lstat().st_mtime < older_than_s:
+                        continue
+                    if p.is_dir():
+                        shutil.rmtree(p, ignore_errors=True)
+                    else:
+                        p.unlink(missing_ok=True)
+                    gone += 1
+                except OSError:
+                    continue
+        return gone
 
     def store_result(self, key: str, files: dict[str, bytes]) -> bool:
         """Put the result ``files`` in ``results/<key>/`` whole. Returns False (and stores
@@ -71,10 +96,10 @@ class Storage:
         final.parent.mkdir(parents=True, exist_ok=True)
         tmp = Path(tempfile.mkdtemp(prefix=f".{key}.", dir=final.parent))
         try:
-            for name, data in files.items():
+            for name, data in files.items():   # readable by the service's user only
                 (tmp / name).write_bytes(data)
-                os.chmod(tmp / name, 0o644)
-            os.chmod(tmp, 0o755)
+                os.chmod(tmp / name, 0o600)
+            os.chmod(tmp, 0o700)
             try:
                 os.rename(tmp, final)        # fails if another copy got there first
             except OSError:

@@ -135,7 +135,9 @@ def _execute(config: Config, row, beat: Beat) -> str:
     from catwalk.simulate.walking import blend_frame_count
 
     storage = Storage(config.storage_dir)
-    entry = Catalogue(config).get(row.garment_id)
+    if storage.result_file(row.key, "metrics.json").is_file():
+        return _finish_stored(config, row, storage)   # an earlier attempt stored it
+    entry = _catalogue(config).get(row.garment_id)
     if entry.version != row.garment_version:
         raise InputError(f"garment {row.garment_id!r} has changed since this try-on was asked "
                          "for; ask for it again", "garment_id")
@@ -153,8 +155,9 @@ def _execute(config: Config, row, beat: Beat) -> str:
                         progress=progress)
     progress.enter("exporting")
     glb = res.glb()
-    progress.enter("compressing")
-    web, compression = compress_bytes(glb, cancel=progress.cancelled)
+    progress.enter("compressing")   # the web copy: no normal targets (the player makes them)
+    web, compression = compress_bytes(res.glb(normals=False), cancel=progress.cancelled,
+                                      workdir=storage.root / "results")   # swept, not /tmp
     progress.enter("preview")
     png = preview_png(res, progress.cancelled)
     progress.check()
@@ -171,6 +174,29 @@ def _execute(config: Config, row, beat: Beat) -> str:
             storage.remove_result(row.key)
         raise Cancelled("the job was cancelled or taken over while it was being stored")
     return "done"
+
+
+def _finish_stored(config: Config, row, storage: Storage) -> str:
+    """Finish a job whose result is already stored under its key (an earlier attempt wrote
+    it and died before its row, or a twin job of the same key did)."""
+    glb = storage.result_file(row.key, "tryon.glb").read_bytes()
+    web = storage.result_file(row.key, "tryon.web.glb").read_bytes()
+    metrics = json.loads(storage.result_file(row.key, "metrics.json").read_text())
+    sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
+             "web_sha256": sha256(web)}
+    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes):
+        raise Cancelled("the job was cancelled or taken over")
+    return "done"
+
+
+_CATALOGUES: dict = {}
+
+
+def _catalogue(config: Config) -> Catalogue:
+    """This process's catalogue (read again only when a file in it changes)."""
+    if config not in _CATALOGUES:
+        _CATALOGUES[config] = Catalogue(config)
+    return _CATALOGUES[config]
 
 
 def preview_png(res, cancel=None) -> bytes:
@@ -205,10 +231,19 @@ def warm_up() -> float:
     from catwalk.garment.catalogue import catalogue_dir
 
     t0 = time.perf_counter()
+    files = sorted(catalogue_dir().glob("*.json"))
     skirt = catalogue_dir() / "pencil-skirt.json"
-    if not skirt.is_file():
+    for path in ([skirt] if skirt.is_file() else []) + files:
+        try:
+            garment = load_garment(path)
+            break
+        except CatwalkError:
+            continue
+    else:
+        log.warning(json.dumps({"event": "no_warm_up", "reason": "no readable garment in "
+                                "the catalogue: the first job loads the kernels"}))
         return 0.0
-    res = catwalk.tryon(measured_base_body(0.0), load_garment(skirt), preset="fast", h=0.04,
+    res = catwalk.tryon(measured_base_body(0.0), garment, preset="fast", h=0.04,
                         seconds=0.3)
     res.glb()
     scene_of(res.body, res.motion, [res.frames()]).meshes_at(0.0)
@@ -254,7 +289,8 @@ def main(concurrency: int | None = None, loglevel: str | None = None) -> int:
                          "warm_up_s": round(warm_up(), 2), "queue": config.queue}))
     from celery.signals import worker_ready
 
-    # after the pool has forked: no thread of ours runs while a child process is made
+    # after the pool's first children are made (replacements are forked later with it
+    # running: the engines are per process and db's lock is made anew in a child)
     worker_ready.connect(lambda **_: Recovery(config).start(), weak=False)
     app = celery_app(config)
     argv = ["--quiet", "worker", f"--concurrency={n}", f"--queues={config.queue}", "--pool=prefork",

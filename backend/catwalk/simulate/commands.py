@@ -140,7 +140,7 @@ def _tryon_cmd(args) -> int:
         from catwalk.exchange.compress import compress_bytes
         from catwalk.fileio import atomic_path
 
-        data, res.metrics["compression"] = compress_bytes(res.glb())
+        data, res.metrics["compression"] = compress_bytes(res.glb(normals=False))
         with atomic_path(out) as tmp:
             tmp.write_bytes(data)
     else:

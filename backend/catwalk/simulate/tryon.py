@@ -65,12 +65,14 @@ class TryOn:
                                if k not in _WALL_CLOCK_DRESSING}
         return out
 
-    def glb(self) -> bytes:
-        """The try-on .glb (docs/tryon-format.md): byte-identical for the same inputs."""
+    def glb(self, normals: bool = True) -> bytes:
+        """The try-on .glb (docs/tryon-format.md): byte-identical for the same inputs.
+        ``normals=False``: without the garment's per-frame normals (the web copy: a player
+        computes them)."""
         from catwalk.exchange.tryon_glb import tryon_bytes
 
         return tryon_bytes(self.body, self.motion, [self.frames()],
-                           extras={"metrics": self.file_metrics()})
+                           extras={"metrics": self.file_metrics()}, normals=normals)
 
     def write(self, path: str | Path) -> None:
         """Write :meth:`glb` to ``path`` atomically."""

@@ -14,8 +14,7 @@ import json
 import logging
 from pathlib import Path
 
-from fastapi import FastAPI
-from fastapi.staticfiles import StaticFiles
+from fastapi import FastAPI, Request
 
 from catwalk.config import Config, get_config
 from catwalk.service.api import errors
@@ -79,10 +78,36 @@ class LimitUploads:
         await send({"type": "http.response.body", "body": body})
 
 
+# paths that are the API's, never a page: an unknown one is the API's JSON 404
+_NOT_PAGES = ("api/", "healthz", "readyz", "metrics", "docs", "redoc", "openapi.json")
+
+
+def _serve_pages(app: FastAPI, root: Path) -> None:
+    """The built pages at ``/``: a file of ``root`` if the path names one, else ``index.html``
+    (the pages route on the path themselves: /garments/{id}, /body, /tryon/{id}, /compare).
+    Hashed assets are immutable; index.html is revalidated."""
+    from fastapi.responses import FileResponse
+
+    from catwalk.service.api.errors import ApiError
+
+    root = root.resolve()
+
+    @app.get("/{path:path}", include_in_schema=False)
+    async def page(path: str, request: Request):
+        if path.startswith(_NOT_PAGES):
+            raise ApiError(404, f"no such route: {request.method} /{path}")
+        target = (root / path).resolve()
+        if path and target.is_file() and target.is_relative_to(root):
+            cache = ("public, max-age=31536000, immutable" if path.startswith("assets/")
+                     else "no-cache")
+            return FileResponse(target, headers={"Cache-Control": cache})
+        return FileResponse(root / "index.html", headers={"Cache-Control": "no-cache"})
+
+
 def create_app(config: Config | None = None, *, recovery: bool = True,
                frontend: Path | None = None) -> FastAPI:
-    """The API. ``recovery``: run the recovery loop in this process; ``frontend``: a folder of
-    static pages served at ``/`` (the built frontend), if it exists."""
+    """The API. ``recovery``: run the recovery loop in this process; ``frontend``: the built
+    pages (a folder with index.html), served at ``/`` when it exists."""
     from catwalk.service import db
     from catwalk.service.worker import Recovery
 
@@ -92,6 +117,9 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     async def lifespan(app: FastAPI):
         db.migrate(config)
         app.state.storage.root.mkdir(parents=True, exist_ok=True)
+        swept = app.state.storage.sweep()   # what a process killed mid-write left
+        if swept:
+            log.info(json.dumps({"event": "swept", "leftovers": swept}))
         loop_thread = None
         if recovery:
             loop_thread = Recovery(config)
@@ -120,6 +148,6 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     for r in (health.router, garments.router, bodies.router, tryons.router):
         app.include_router(r)
     if frontend is not None and (frontend / "index.html").is_file():
-        app.mount("/", StaticFiles(directory=frontend, html=True), name="frontend")
+        _serve_pages(app, frontend)
     app.add_middleware(LimitUploads, limit=config.upload_max_bytes)
     return app

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import logging
+import re
 import traceback
 
 from fastapi import FastAPI, Request
@@ -40,7 +41,18 @@ class ApiError(Exception):
 
 
 def not_found(what: str, ident: str, field: str | None = None) -> ApiError:
-    return ApiError(404, f"no {what} with id {ident!r}", field)
+    return ApiError(404, f"no {what} with id {ident[:80]!r}", field)
+
+
+_ID = re.compile(r"[A-Za-z0-9_-]{8,64}")
+
+
+def check_id(ident: str, what: str, field: str | None = None) -> str:
+    """A body's or try-on's id as the service makes them (URL-safe, 8–64 characters), or 404
+    before any query (a NUL byte or 10 kB of junk never reaches the database)."""
+    if not isinstance(ident, str) or not _ID.fullmatch(ident):
+        raise not_found(what, str(ident), field)
+    return ident
 
 
 def error_body(status: int, message: str, field: str | None = None,

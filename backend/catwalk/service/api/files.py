@@ -12,7 +12,9 @@ from fastapi.responses import FileResponse, Response
 
 from catwalk.service.api.errors import ApiError
 
-IMMUTABLE = "public, max-age=31536000, immutable"
+# results carry a person's body: browsers may keep them, shared caches may not
+IMMUTABLE = "private, max-age=31536000, immutable"
+PUBLIC_IMMUTABLE = "public, max-age=31536000, immutable"
 _RANGE = re.compile(r"^\s*(\d*)\s*-\s*(\d*)\s*$")
 
 
@@ -23,15 +25,14 @@ def not_modified(request: Request, etag: str) -> bool:
 
 
 def check_range(header: str | None, size: int) -> None:
-    """Refuse a ``Range`` header that is not ``bytes=…`` ranges (400) or that no byte of the
-    file satisfies (416)."""
+    """Refuse a ``Range`` header that is not ``bytes=…`` ranges (400) or one of whose ranges
+    no byte of the file satisfies (416, as Starlette would, but in the API's JSON)."""
     if header is None:
         return
     unit, _, spec = header.partition("=")
     if unit.strip().lower() != "bytes" or not spec.strip():
         raise ApiError(400, f"Range {header!r}: only byte ranges (bytes=start-end) are served",
                        "Range", code="bad_range")
-    satisfiable = False
     for part in spec.split(","):
         m = _RANGE.match(part)
         if m is None or (not m.group(1) and not m.group(2)):
@@ -41,10 +42,8 @@ def check_range(header: str | None, size: int) -> None:
         if start and end and int(end) < int(start):
             raise ApiError(400, f"Range {header!r}: {part.strip()!r} ends before it starts",
                            "Range", code="bad_range")
-        if (start and int(start) < size) or (not start and int(end) > 0):
-            satisfiable = True
-    if not satisfiable:
-        raise ApiError(416, f"Range {header!r}: the file has {size:,} bytes", "Range",
+        if (start and int(start) >= size) or (not start and int(end) == 0):
+            raise ApiError(416, f"Range {header!r}: the file has {size:,} bytes", "Range",
                        code="bad_range", headers={"Content-Range": f"bytes */{size}"})
 
 

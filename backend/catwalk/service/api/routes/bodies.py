@@ -15,13 +15,12 @@ import time
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import Response
 from pydantic import ValidationError
-from sqlalchemy import select
 
 from catwalk.config import Config
 from catwalk.errors import InputError
 from catwalk.service import db, jobs, keys
 from catwalk.service.api import deps, schemas
-from catwalk.service.api.errors import ApiError, UploadTooLarge, not_found
+from catwalk.service.api.errors import ApiError, UploadTooLarge, check_id, not_found
 from catwalk.service.api.files import file_response
 from catwalk.service.bodies import make_from_measurements, make_from_scan
 from catwalk.service.models import BodyRow
@@ -56,6 +55,7 @@ def body_view(row: BodyRow) -> dict:
 
 
 def _get_row(config: Config, body_id: str) -> BodyRow:
+    check_id(body_id, "body", "body_id")
     with db.session(config) as s:
         row = s.get(BodyRow, body_id)
     if row is None:
@@ -129,12 +129,14 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
                           measurements=values, model_measurements=made["model_measurements"])
         elif ctype == "multipart/form-data":
             data, fmt, sex = await _scan(request)
-            scan_path = storage.write(storage.scan_path(body_id, fmt), data)
+            scan_path = await asyncio.to_thread(storage.write, storage.scan_path(body_id, fmt),
+                                                data)
             made = await maker.run(make_from_scan, str(scan_path), str(out), sex,
                                    timeout=config.body_timeout_s)
             # keyed by the sex the body was made with, told or inferred alike
+            content_key = await asyncio.to_thread(keys.scan_key, data, made["sex"])
             row = BodyRow(id=body_id, source="scan", fit="measurements", sex=made["sex"],
-                          content_key=keys.scan_key(data, made["sex"]), scan_format=fmt,
+                          content_key=content_key, scan_format=fmt,
                           measurements={**made["measurements"],
                                         "_sex_inferred": made["sex_inferred"],
                                         "_scan": made["scan"]},
@@ -142,19 +144,18 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
         else:
             raise ApiError(415, "send measurements as application/json or a scan as "
                                 "multipart/form-data (a file part named 'scan')")
+        await asyncio.to_thread(_insert, config, row)
     except InputError as exc:
         storage.remove_body(body_id)
         raise ApiError(422, str(exc), exc.field or ("scan" if ctype.startswith("multipart")
                                                     else None)) from None
     except TimeoutError:
-        maker.reset()   # stop the process still making it, so it writes nothing afterwards
         storage.remove_body(body_id)
         raise ApiError(503, f"the body was not made within {config.body_timeout_s:g} s; try "
                             "again", code="busy") from None
     except BaseException:
-        storage.remove_body(body_id)
+        storage.remove_body(body_id)   # nothing of a body that was not made stays on disk
         raise
-    await asyncio.to_thread(_insert, config, row)
     # the body's id and how it went only: measurements and scans are never logged
     log.info(json.dumps({"event": "body_created", "body": body_id, "source": row.source,
                          "seconds": round(time.perf_counter() - t0, 2)}))
@@ -193,15 +194,13 @@ def delete_body(body_id: str, config: Config = Depends(deps.config),
     """Delete the body, its scan, every try-on made from it and their results (those no
     other body shares). A running try-on of it stops."""
     _get_row(config, body_id)
-    orphaned = jobs.delete_for_body(config, body_id)
+    storage.remove_body(body_id)   # the files first: a crash half-way leaves a row to delete
+    orphaned = jobs.delete_for_body(config, body_id)   # again, not a scan without a row
+    for key in orphaned:
+        storage.remove_result(key)
     with db.session(config) as s:
         row = s.get(BodyRow, body_id)
         if row is not None:
             s.delete(row)
-        left = s.scalars(select(BodyRow.id).where(BodyRow.id == body_id)).first()
-    for key in orphaned:
-        storage.remove_result(key)
-    storage.remove_body(body_id)
-    log.info(json.dumps({"event": "body_deleted", "body": body_id, "results": len(orphaned),
-                         "gone": left is None}))
+    log.info(json.dumps({"event": "body_deleted", "body": body_id, "results": len(orphaned)}))
     return Response(status_code=204)

@@ -10,7 +10,7 @@ from fastapi.responses import Response
 from catwalk.errors import InputError
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, not_found
-from catwalk.service.api.files import file_response, not_modified
+from catwalk.service.api.files import PUBLIC_IMMUTABLE, file_response, not_modified
 
 router = APIRouter(prefix="/api/garments", tags=["garments"])
 
@@ -50,7 +50,7 @@ async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.ca
         if task is not None:
             await asyncio.wait({task}, timeout=2.0)
     if path.is_file():
-        return file_response(request, path, "image/png", f'"{path.stem}"')
+        return file_response(request, path, "image/png", f'"{path.stem}"', PUBLIC_IMMUTABLE)
     png = await asyncio.to_thread(_pattern, entry, None)
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
 
@@ -76,3 +76,25 @@ async def pattern(garment_id: str, request: Request, size: str | None = None,
         return Response(status_code=304, headers=headers)
     png = await asyncio.to_thread(_pattern, entry, size)
     return Response(png, media_type="image/png", headers=headers)
+
+
+@router.get("/{garment_id}/sizes", responses=schemas.ERRORS)
+def sizes(garment_id: str, body_id: str = Query(..., description="the shopper's body"),
+          config=Depends(deps.config), catalogue=Depends(deps.catalogue)) -> dict:
+    """Size advice: each size's chart (the sample body it was made for) against the body's
+    girths, the ease (chart − body, metres), whether it fits, and the size recommended."""
+    from catwalk.body.commands import load_recipes
+    from catwalk.service import db
+    from catwalk.service.api.errors import check_id
+    from catwalk.service.models import BodyRow
+    from catwalk.service.sizes import advise
+
+    entry = _entry(catalogue, garment_id)
+    check_id(body_id, "body", "body_id")
+    with db.session(config) as s:
+        body = s.get(BodyRow, body_id)
+    if body is None:
+        raise not_found("body", body_id, "body_id")
+    girths = {k: v for k, v in (body.measurements or {}).items() if not k.startswith("_")}
+    out = advise(entry.garment, girths, load_recipes(config.bodies_dir / "recipes.json"))
+    return {"garment_id": entry.id, "body_id": body_id, **out}

@@ -16,7 +16,7 @@ from catwalk.config import Config
 from catwalk.errors import InputError
 from catwalk.service import db, jobs, keys
 from catwalk.service.api import deps, schemas
-from catwalk.service.api.errors import ApiError, not_found
+from catwalk.service.api.errors import ApiError, check_id, not_found
 from catwalk.service.api.files import file_response
 from catwalk.service.models import FINISHED, BodyRow, TryOnRow, utcnow
 
@@ -35,17 +35,20 @@ def _view(config: Config, row: TryOnRow) -> dict:
 
 
 def _job(config: Config, job_id: str) -> TryOnRow:
+    check_id(job_id, "try-on")
     row = jobs.get(config, job_id)
     if row is None:
         raise not_found("try-on", job_id)
     return row
 
 
-def _submit(config: Config, catalogue, req: schemas.TryOnRequest) -> tuple[TryOnRow, bool]:
+def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
+            ) -> tuple[TryOnRow, bool]:
     """The try-on row for ``req``: a new queued one, this body's running one with the same
     key, or a done one answered from the cache. (row, needs sending)."""
     from catwalk.garment.check import resolve_fabric
 
+    check_id(req.body_id, "body", "body_id")
     with db.session(config) as s:
         body = s.get(BodyRow, req.body_id)
     if body is None:
@@ -70,16 +73,22 @@ def _submit(config: Config, catalogue, req: schemas.TryOnRequest) -> tuple[TryOn
     running = jobs.active_for(config, body.id, key)
     if running is not None:
         return running, False
-    cached = jobs.result(config, key) is not None
-    row = TryOnRow(id=jobs.new_id(), key=key, body_id=body.id, garment_id=entry.id,
-                   garment_version=entry.version, size=size, fabric=fabric,
-                   seconds=req.seconds, preset=req.preset, cancel_requested=False,
-                   attempts=0, cached=cached,
-                   status="done" if cached else "queued", progress=1.0 if cached else 0.0,
-                   stage="done" if cached else "queued")
-    if cached:
-        row.finished_at = row.created_at = row.enqueued_at = utcnow()
-    with db.session(config) as s:
+    # the result, if there is one, cannot be deleted (its last body going) while this try-on
+    # is added as answered from it: its row is locked until the new row is in
+    with jobs.RESULTS_LOCK, db.session(config) as s:
+        result = jobs.lock_result(s, key)
+        if result is not None and not storage.result_file(key, "tryon.glb").is_file():
+            s.delete(result)   # its files are gone (storage lost or wiped): make it again
+            result = None
+        cached = result is not None
+        now = utcnow()
+        row = TryOnRow(id=jobs.new_id(), key=key, body_id=body.id, garment_id=entry.id,
+                       garment_version=entry.version, size=size, fabric=fabric,
+                       seconds=req.seconds, preset=req.preset, cancel_requested=False,
+                       attempts=0, cached=cached, created_at=now, enqueued_at=now,
+                       status="done" if cached else "queued", progress=1.0 if cached else 0.0,
+                       stage="done" if cached else "queued",
+                       finished_at=now if cached else None)
         s.add(row)
     return row, not cached
 
@@ -89,11 +98,12 @@ def _submit(config: Config, catalogue, req: schemas.TryOnRequest) -> tuple[TryOn
                               "description": "already made: answered from the cache"},
                         **schemas.ERRORS})
 async def create_tryon(req: schemas.TryOnRequest, config: Config = Depends(deps.config),
-                       catalogue=Depends(deps.catalogue), _json=Depends(deps.json_body)):
+                       catalogue=Depends(deps.catalogue), storage=Depends(deps.storage),
+                       _json=Depends(deps.json_body)):
     """Ask for a try-on of a body in a catalogue garment."""
     from catwalk.service.queue import send
 
-    row, needs_sending = await asyncio.to_thread(_submit, config, catalogue, req)
+    row, needs_sending = await asyncio.to_thread(_submit, config, catalogue, storage, req)
     if needs_sending:
         try:
             await asyncio.to_thread(send, config, row.id)
