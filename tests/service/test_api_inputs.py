@@ -77,6 +77,9 @@ def test_catalogue(client):
     if png.headers.get("etag"):
         again = client.get(g["thumbnail_url"], headers={"If-None-Match": png.headers["etag"]})
         assert again.status_code == 304
+    dressed = client.get("/api/garments/pencil-skirt/dressed.glb")   # made with the thumbnail
+    assert dressed.status_code == 200 and dressed.content[:4] == b"glTF"
+    assert b"EXT_meshopt_compression" in dressed.content[:4000]
     pattern = client.get("/api/garments/pencil-skirt/pattern.png", params={"size": "S"})
     assert pattern.status_code == 200 and pattern.content[:4] == b"\x89PNG"
     _error(client.get("/api/garments/ballgown"), 404, "garment_id")

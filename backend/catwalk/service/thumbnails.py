@@ -1,5 +1,6 @@
 """Garment thumbnails: the garment dressed on the sample body of its default size, rendered
-from the front (``thumbnails/<id>/<version>.png`` in the storage).
+from the front (``thumbnails/<id>/<version>.png`` in the storage), and that dressed body as a
+.glb for the garment page's 3D view (``<version>.glb``, meshopt-compressed).
 
 Made once per garment version in the API's body pool (a dressing and a render: 1–3 s), at the
 API's start for the whole catalogue and on first request for a new version; until one is
@@ -33,7 +34,12 @@ def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str
 
     body = sample_body(sample, Path(samples_dir))
     res = catwalk.tryon(body, garment_path, size=size, seconds=0, preset="fast",
-                        measure=False)
+                        measure=False, garment_id=Path(garment_path).stem)
+    from catwalk.exchange.compress import compress_bytes
+
+    web, _ = compress_bytes(res.glb(normals=False), workdir=Path(out).parent)
+    with atomic_path(Path(out).with_suffix(".glb")) as tmp:
+        tmp.write_bytes(web)
     scene = scene_of(res.body, None, [res.frames()])
     meshes = [(v, f, rgb) for _, v, f, rgb in scene.meshes_at(0.0)]
     img = render_meshes(meshes, view="front", size=SIZE)

@@ -55,6 +55,25 @@ async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.ca
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
 
 
+@router.get("/{garment_id}/dressed.glb", responses={200: {"content": {"model/gltf-binary": {}}}})
+@router.head("/{garment_id}/dressed.glb", include_in_schema=False)
+async def dressed(garment_id: str, request: Request, catalogue=Depends(deps.catalogue)):
+    """The garment in its default size dressed on that size's sample body, standing: a
+    meshopt-compressed try-on file of one frame (made with the thumbnail)."""
+    entry = _entry(catalogue, garment_id)
+    thumbs = request.app.state.thumbnails
+    path = thumbs.path(entry).with_suffix(".glb")
+    if not path.is_file():
+        task = thumbs.ensure(entry)
+        if task is not None:
+            await asyncio.wait({task}, timeout=30.0)
+    if not path.is_file():
+        raise ApiError(503, "the dressed garment is still being made; try again in a few "
+                            "seconds", code="not_ready", headers={"Retry-After": "5"})
+    return file_response(request, path, "model/gltf-binary", f'"{path.stem}"',
+                         PUBLIC_IMMUTABLE)
+
+
 def _pattern(entry, size):
     from catwalk.render.pattern import pattern_png
 
