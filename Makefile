@@ -7,12 +7,15 @@ CATWALK := $(VENV)/bin/catwalk
 STAMP := $(VENV)/.installed
 NODE_STAMP := tools/node/node_modules/.installed
 FS_STAMP := garments/freesewing/node_modules/.installed
+FRONT_STAMP := frontend/node_modules/.installed
+FRONT_DIST := frontend/dist/index.html
+FRONT_SRC := $(shell find frontend -path frontend/node_modules -prune -o -path frontend/dist -prune -o -type f -print)
 PYTEST_ARGS ?=
 DEMO_GARMENT ?= dress
 
-.PHONY: install demo test lint bodies clean services
+.PHONY: install demo test lint bodies clean services browser
 
-install: $(STAMP) $(NODE_STAMP) $(FS_STAMP)
+install: $(STAMP) $(NODE_STAMP) $(FS_STAMP) $(FRONT_DIST)
 	$(CATWALK) assets
 
 $(STAMP): pyproject.toml
@@ -29,6 +32,14 @@ $(FS_STAMP): garments/freesewing/package.json garments/freesewing/package-lock.j
 	cd garments/freesewing && npm ci --no-audit --no-fund --loglevel=error
 	touch $@
 
+$(FRONT_STAMP): frontend/package.json frontend/package-lock.json
+	cd frontend && npm ci --no-audit --no-fund --loglevel=error
+	touch $@
+
+# the pages `catwalk serve` serves at /
+$(FRONT_DIST): $(FRONT_STAMP) $(FRONT_SRC)
+	cd frontend && npm run build --silent
+
 demo: install
 	$(CATWALK) demo --garment $(DEMO_GARMENT) --size M --seconds 4 --out-dir demo
 
@@ -38,11 +49,16 @@ lint: $(STAMP)
 services:
 	tools/services/ensure.sh
 
-test: install lint services
+browser:
+	tools/services/browser.sh
+
+test: install lint services browser
+	cd frontend && npm test --silent
 	$(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
 bodies: install
 	$(CATWALK) bodies build
 
 clean:
-	rm -rf $(VENV) tools/node/node_modules garments/freesewing/node_modules demo
+	rm -rf $(VENV) tools/node/node_modules garments/freesewing/node_modules demo \
+		frontend/node_modules frontend/dist

@@ -9,22 +9,18 @@ gets its own PostgreSQL database and its own queue name, removed at the end. Wor
 
 from __future__ import annotations
 
-import shutil
 import uuid
 from pathlib import Path
 
 import pytest
 
-from .helpers import DB_URL, REDIS_URL, REPO, Proc
+from .helpers import DB_URL, REDIS_URL, Proc, one_garment_catalogue
 
 
 @pytest.fixture(scope="session")
 def catalogue_dir(tmp_path_factory) -> Path:
     """A catalogue of one garment (the pencil skirt and its textures): fewer thumbnails."""
-    d = tmp_path_factory.mktemp("catalogue")
-    shutil.copy(REPO / "garments" / "pencil-skirt.json", d)
-    shutil.copytree(REPO / "garments" / "textures", d / "textures")
-    return d
+    return one_garment_catalogue(tmp_path_factory.mktemp("catalogue"))
 
 
 @pytest.fixture

@@ -19,6 +19,16 @@ SKIRT = {"garment_id": "pencil-skirt", "preset": "fast", "seconds": 1.0}
 MEASURES = {"sex": "female", "height": 1.68, "bust": 0.90, "waist": 0.72, "hips": 0.98}
 
 
+def one_garment_catalogue(dest: Path) -> Path:
+    """A catalogue of one garment in ``dest`` (the pencil skirt and its textures): fewer
+    thumbnails to make than the whole catalogue's."""
+    import shutil
+
+    shutil.copy(REPO / "garments" / "pencil-skirt.json", dest)
+    shutil.copytree(REPO / "garments" / "textures", dest / "textures")
+    return dest
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

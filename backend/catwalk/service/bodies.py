@@ -100,8 +100,11 @@ class BodyMaker:
 
     def _get(self) -> concurrent.futures.ProcessPoolExecutor:
         if self._pool is None:
+            from catwalk.service.children import die_with_parent
+
             self._pool = concurrent.futures.ProcessPoolExecutor(
-                self.processes, mp_context=multiprocessing.get_context("spawn"))
+                self.processes, mp_context=multiprocessing.get_context("spawn"),
+                initializer=die_with_parent)   # gone with the API, even if it is killed
         return self._pool
 
     def warm(self) -> None:
@@ -138,9 +141,9 @@ class BodyMaker:
         pool.shutdown(wait=False, cancel_futures=True)
 
     def close(self) -> None:
+        """Stop the pool's processes (the API is stopping)."""
         if self._pool is not None:
-            self._pool.shutdown(wait=False, cancel_futures=True)
-            self._pool = None
+            self._reset(self._pool)
 
 
 def remove_tree(path: Path) -> None:

@@ -82,8 +82,8 @@ def main(args) -> int:
             cached = " (from the cache)" if job.get("cached") else ""
             print(f"demo: try-on done in {time.perf_counter() - t0:.1f} s{cached}: wrote "
                   f"{out}/tryon.glb, {out}/tryon.png, {out}/metrics.json", file=sys.stderr)
-            print(f"demo: the service is at {url} (API docs: {url}/docs; this try-on: "
-                  f"{url}{job['status_url']})")
+            print(f"demo: open {url}/tryon/{job['id']} to watch it walk (the catalogue: "
+                  f"{url}/, the API: {url}/docs)")
         if proc is not None and stay:
             print("demo: serving until Ctrl-C", file=sys.stderr)
             try:

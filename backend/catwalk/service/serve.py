@@ -21,17 +21,9 @@ import threading
 import time
 
 from catwalk.config import get_config
+from catwalk.service.children import die_with_parent
 
 log = logging.getLogger("catwalk.serve")
-
-
-def _die_with_parent() -> None:
-    """(In the child, before exec.) SIGTERM when `catwalk serve` dies, even by SIGKILL
-    (Linux's PR_SET_PDEATHSIG), so no worker outlives its service."""
-    import ctypes
-
-    with contextlib.suppress(OSError, AttributeError):
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)   # PR_SET_PDEATHSIG
 
 
 class WorkerProcess(threading.Thread):
@@ -46,7 +38,7 @@ class WorkerProcess(threading.Thread):
     def _start(self) -> subprocess.Popen:
         cmd = [sys.executable, "-m", "catwalk.cli", "worker",
                f"--concurrency={self.concurrency}"]
-        return subprocess.Popen(cmd, start_new_session=True, preexec_fn=_die_with_parent)
+        return subprocess.Popen(cmd, start_new_session=True, preexec_fn=die_with_parent)
 
     def run(self) -> None:
         backoff = 1.0
