@@ -1,5 +1,5 @@
 import { describe, it, expect } from 'vitest';
-import { advance, clampSpeed, clampTime, scrubToTime, timeToScrub, frameAt, fpsFromTimes, formatTime, chunkForFrame, applyChunkVisibility, Transport, END_EPSILON } from '../src/player/timeline.js';
+import { advance, clampSpeed, clampTime, scrubToTime, timeToScrub, frameAt, fpsFromTimes, formatTime, chunkForFrame, Transport, END_EPSILON } from '../src/player/timeline.js';
 
 describe( 'time math', () => {
 
@@ -71,19 +71,6 @@ describe( 'chunks', () => {
 		expect( chunkForFrame( 126, 127 ) ).toBe( 1 ); // 127 frames: chunk 1 ends exactly on 126
 		expect( chunkForFrame( 126, 128 ) ).toBe( 2 );
 		expect( chunkForFrame( 999, 128 ) ).toBe( 2 );
-
-	} );
-
-	it( 'shows only the chunks whose scale channel is on', () => {
-
-		const node = ( x ) => ( { scale: { x }, visible: true } );
-		const nodes = [ node( 0 ), node( 1 ), node( 0 ) ];
-		const shown = applyChunkVisibility( nodes );
-		expect( nodes.map( ( n ) => n.visible ) ).toEqual( [ false, true, false ] );
-		expect( shown ).toEqual( [ nodes[ 1 ] ] );
-		// an older file: one node, no scale channel
-		const one = [ node( 1 ) ];
-		expect( applyChunkVisibility( one ) ).toEqual( one );
 
 	} );
 

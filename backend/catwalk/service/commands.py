@@ -29,6 +29,12 @@ def _demo(args) -> int:
     return main(args)
 
 
+def _bench_player(args) -> int:
+    from catwalk.bench.player import main
+
+    return main(args)
+
+
 def _bench_service(args) -> int:
     from catwalk.bench.service import main
 
@@ -80,3 +86,12 @@ def register(top, groups) -> None:
     p.add_argument("--seconds", type=float, default=2.0, help="walk length of each (2)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_service)
+
+    p = groups["bench"].add_parser(
+        "player", help="the try-on page in chromium: first frame, download size, work per "
+                       "frame against the try-on's length")
+    p.add_argument("--seconds", type=float, nargs="+", default=[2.0, 10.0],
+                   help="walk lengths to compare (2 10)")
+    p.add_argument("--frames", type=int, default=240, help="frames of playback measured")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_bench_player)

@@ -4,7 +4,8 @@
 
 import * as THREE from 'three';
 import { describeTryon } from './tryon-file.js';
-import { applyChunkVisibility, clampTime } from './timeline.js';
+import { clampTime } from './timeline.js';
+import { chunkAt, splitByChunk } from './chunk-clips.js';
 import { FitMap } from './fitmap.js';
 import { GarmentMesh } from './garment-mesh.js';
 
@@ -71,9 +72,29 @@ export class TryonPlayer {
 		for ( const b of file.bodies ) _box.expandByObject( b );
 		this.height = _box.isEmpty() ? 1.7 : Math.min( 2.3, Math.max( 1.2, _box.max.y - Math.max( 0, _box.min.y ) ) );
 
+		// the body's tracks in one action, each garment chunk's in its own, enabled only while
+		// the chunk is on show (the mixer then skips the others: a frame's cost does not grow
+		// with the try-on's length)
 		this.mixer = new THREE.AnimationMixer( file.root );
-		this.action = file.clip ? this.mixer.clipAction( file.clip ) : null;
-		if ( this.action ) this.action.play();
+		this.action = null;
+		this.chunkPlay = []; // per garment: { nodes, starts, actions }
+		if ( file.clip ) {
+
+			const nodes = file.chunkNodes;
+			const { base, chunks } = splitByChunk( file.clip, nodes );
+			this.action = this.mixer.clipAction( base );
+			this.action.play();
+			let i = 0;
+			for ( const g of file.garments ) {
+
+				const own = chunks.slice( i, i + g.chunks.length );
+				const actions = own.map( ( c ) => this.mixer.clipAction( c.clip ).play() );
+				this.chunkPlay.push( { nodes: g.chunks.map( ( c ) => c.node ), starts: own.map( ( c ) => c.start ), actions } );
+				i += g.chunks.length;
+
+			}
+
+		}
 		this.fitMap = file.hasPattern ? new FitMap( file.garmentMeshes ) : null;
 		this.states = new Map(); // garment mesh → GarmentMesh, made when first shown
 		this.time = 0;
@@ -180,8 +201,24 @@ export class TryonPlayer {
 	applyTime( t ) {
 
 		this.time = clampTime( t, this.file.duration );
+		for ( const g of this.chunkPlay ) {
+
+			const on = chunkAt( g.starts, this.time );
+			g.actions.forEach( ( a, k ) => {
+
+				a.enabled = k === on;
+
+			} );
+			g.nodes.forEach( ( n, k ) => {
+
+				n.visible = k === on;
+				n.scale.setScalar( 1 );
+
+			} );
+
+		}
+
 		if ( this.action ) this.mixer.setTime( this.time );
-		applyChunkVisibility( this.file.chunkNodes );
 		this.file.root.updateMatrixWorld( true );
 
 	}

@@ -24,12 +24,17 @@ export function startSession( { players, stages, controlsBox, keyTarget, fps = 3
 
 	};
 
+	const work = []; // ms of the page's own work per frame (clock, morphs, fit map, draw calls)
 	const stop = startLoop( ( dt ) => {
 
+		const t0 = performance.now();
 		transport.tick( dt );
 		show();
 		for ( const s of stages ) s.render();
 		frames ++;
+		if ( frames === 1 ) performance.mark( 'catwalk:first-frame' );
+		work.push( performance.now() - t0 );
+		if ( work.length > 600 ) work.shift();
 
 	} );
 	show();
@@ -40,6 +45,20 @@ export function startSession( { players, stages, controlsBox, keyTarget, fps = 3
 		duration: () => transport.duration,
 		playing: () => transport.playing,
 		frames: () => frames,
+		// the page's work per frame over the last (up to) 600 frames: { n, mean, median, p95 } in ms
+		resetFrameWork: () => {
+
+			work.length = 0;
+
+		},
+		frameWork: () => {
+
+			const w = [ ...work ].sort( ( x, y ) => x - y );
+			const n = w.length;
+			const at = ( q ) => ( n ? w[ Math.floor( q * ( n - 1 ) ) ] : 0 );
+			return { n, mean: n ? w.reduce( ( a, b ) => a + b, 0 ) / n : 0, median: at( 0.5 ), p95: at( 0.95 ) };
+
+		},
 		play: () => transport.play(),
 		pause: () => transport.pause(),
 		seek: ( t ) => {

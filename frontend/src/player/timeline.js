@@ -97,25 +97,6 @@ export function chunkForFrame( frame, frames, size = 64 ) {
 }
 
 /**
- * Show only the chunk nodes the animation shows: after each mixer update a chunk's `scale`
- * channel is 1 while it is the shown chunk and 0 otherwise. Returns the shown nodes.
- * A file without chunks (one node, no scale channel) keeps scale 1: always shown.
- */
-export function applyChunkVisibility( nodes ) {
-
-	const shown = [];
-	for ( const node of nodes ) {
-
-		node.visible = node.scale.x > 0;
-		if ( node.visible ) shown.push( node );
-
-	}
-
-	return shown;
-
-}
-
-/**
  * One clock for one or several players: time, playing, speed; `tick(dt)` moves it on.
  * Listeners get the clock after every change.
  */

@@ -6,7 +6,7 @@ import { followTryon, stageLabel, formatPercent } from '../progress.js';
 import { urls } from '../router.js';
 import { h, clear } from '../ui/dom.js';
 import { errorNotice, notice, spinner, progressBar } from '../ui/feedback.js';
-import { hasWebGL, NO_WEBGL_MESSAGE } from '../viewer/webgl.js';
+import { NO_WEBGL_MESSAGE } from '../viewer/webgl.js';
 import { Stage } from '../viewer/stage.js';
 import { loadGlb } from '../viewer/loader.js';
 import { TryonPlayer } from './player.js';
@@ -20,6 +20,7 @@ export function mountTryon( box, id, { ctx, compress = true, label = 'The try-on
 
 	let follower = null;
 	let stage = null;
+	let prepared = null; // { view, stage }: made while the try-on runs, so the result shows sooner
 	let player = null;
 	let disposed = false;
 
@@ -29,7 +30,8 @@ export function mountTryon( box, id, { ctx, compress = true, label = 'The try-on
 		if ( follower ) follower.stop();
 		if ( player ) player.dispose();
 		if ( stage ) stage.dispose();
-		follower = player = stage = null;
+		if ( prepared && prepared.stage !== stage ) prepared.stage.dispose();
+		follower = player = stage = prepared = null;
 
 	};
 
@@ -59,8 +61,27 @@ export function mountTryon( box, id, { ctx, compress = true, label = 'The try-on
 
 	}
 
+	/** The player's stage made ahead (its WebGL context takes a while: ~0.25–0.6 s with
+	 * software GL), while the simulation runs; none where WebGL 2 is missing. */
+	function prepareStage() {
+
+		if ( prepared || disposed || ! ( 'WebGL2RenderingContext' in window ) ) return;
+		const view = h( 'div', { class: 'stage stage--player' } );
+		try {
+
+			prepared = { view, stage: new Stage( view, { label: `${ label }: the body walking in the garment. Drag to turn the view.` } ) };
+
+		} catch {
+
+			prepared = null;
+
+		}
+
+	}
+
 	function showProgress( t ) {
 
+		setTimeout( prepareStage, 0 ); // after the progress panel is drawn
 		clear( box );
 		const stageText = h( 'p', { class: 'progress__stage' } );
 		const pct = h( 'span', { class: 'progress__pct' } );
@@ -160,34 +181,50 @@ export function mountTryon( box, id, { ctx, compress = true, label = 'The try-on
 
 	async function showPlayer( t ) {
 
+		performance.mark( 'catwalk:result-ready' ); // the try-on is done: from here to the first frame
 		clear( box );
 		box.dataset.status = 'done';
-		if ( ! hasWebGL() ) {
+		const noWebGL = () => {
 
+			clear( box );
 			box.append(
 				notice( 'warn', 'No 3D in this browser', `${ NO_WEBGL_MESSAGE } Here are four moments of the walk instead.` ),
 				h( 'img', { class: 'preview-img', src: previewUrl( id ), alt: 'Four moments of the walk, from the front and the side', width: 1440, height: 1080 } ),
 			);
-			return;
 
-		}
+		};
 
-		const view = h( 'div', { class: 'stage stage--player' } );
+		if ( ! ( 'WebGL2RenderingContext' in window ) ) return noWebGL();
+		const view = prepared ? prepared.view : h( 'div', { class: 'stage stage--player' } );
 		const loading = h( 'div', { class: 'stage__overlay' }, h( 'p', {}, 'Loading the 3D walk…' ) );
 		const bar = progressBar( 'Download progress' );
 		loading.append( bar.el );
 		view.append( loading );
 		box.append( view );
-		stage = new Stage( view, { label: `${ label }: the body walking in the garment. Drag to turn the view.` } );
+		// the download first: a WebGL context takes a while to make (software GL: ~0.25 s
+		// each), so the file comes meanwhile; the stage itself tells whether WebGL 2 works
+		const download = loadGlb( resultUrl( id, { compress } ), ( f ) => {
+
+			if ( f === null ) bar.indeterminate( true );
+			else bar.set( f );
+
+		} );
+		download.catch( () => {} ); // awaited below; no unhandled rejection meanwhile
+		try {
+
+			stage = prepared ? prepared.stage : new Stage( view, { label: `${ label }: the body walking in the garment. Drag to turn the view.` } );
+			prepared = null;
+			stage.resize();
+
+		} catch {
+
+			return noWebGL();
+
+		}
 		let gltf;
 		try {
 
-			gltf = await loadGlb( resultUrl( id, { compress } ), ( f ) => {
-
-				if ( f === null ) bar.indeterminate( true );
-				else bar.set( f );
-
-			} );
+			gltf = await download;
 
 		} catch ( err ) {
 
@@ -204,6 +241,7 @@ export function mountTryon( box, id, { ctx, compress = true, label = 'The try-on
 		}
 
 		if ( disposed ) return;
+		performance.mark( 'catwalk:result-loaded' );
 		loading.remove();
 		player = new TryonPlayer( stage, gltf );
 		player.tryon = t;
