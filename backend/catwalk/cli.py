@@ -29,6 +29,7 @@ COMMAND_MODULES = [
     "catwalk.garment.commands",
     "catwalk.simulate.commands",
     "catwalk.service.commands",
+    "catwalk.loadtest.commands",
 ]
 
 GROUPS = {

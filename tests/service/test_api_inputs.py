@@ -267,3 +267,39 @@ def test_size_advice(client, body):
     assert rows["S"]["fits"] and rows["L"]["ease"]["hips"] > 0.1
     assert advice["recommended"] == "S"
     _error(client.get("/api/garments/pencil-skirt/sizes"), 422, "body_id")
+
+
+def _scrape(client) -> dict[str, float]:
+    r = client.get("/metrics")
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/plain")
+    out = {}
+    for line in r.text.splitlines():
+        if line and not line.startswith("#"):
+            name, _, value = line.rpartition(" ")
+            out[name] = float(value)
+    return out
+
+
+def test_metrics(client, body):
+    before = _scrape(client)
+    job = client.post("/api/tryons", json={"body_id": body["id"], "garment_id": "pencil-skirt",
+                                           "preset": "fast", "seconds": 0.7}).json()
+    client.delete(f"/api/tryons/{job['id']}")
+    client.post("/api/bodies", files={"scan": ("x.fbx", b"Kaydara")})
+    client.post("/api/bodies", content=b"x" * 4_000_000,
+                headers={"content-type": "multipart/form-data; boundary=z"})
+    after = _scrape(client)
+
+    def grew(name, by=1.0):
+        assert after.get(name, 0.0) - before.get(name, 0.0) == by, (name, before.get(name),
+                                                                     after.get(name))
+
+    grew('catwalk_jobs{state="cancelled"}')
+    grew('catwalk_tryon_cache_total{result="miss"}')
+    grew('catwalk_uploads_refused_total{reason="too_large"}')
+    grew('catwalk_uploads_refused_total{reason="unsupported_type"}')
+    grew('catwalk_http_request_seconds_count{code="202",method="POST",route="/api/tryons"}')
+    assert after["catwalk_workers_alive"] == 0.0 and after['catwalk_jobs{state="running"}'] == 0
+    assert "catwalk_queue_messages" in after
+    text = client.get("/metrics").text
+    assert body["id"] not in text and job["id"] not in text   # routes by template: no ids

@@ -91,7 +91,13 @@ def test_a_tryon_end_to_end_then_cached_without_a_worker(embedded, procs, catalo
         assert "body_id" not in done   # a shared try-on id does not open the body
         png = client.get(done["preview_url"])
         assert png.status_code == 200 and png.content[:4] == b"\x89PNG"
-        # the same inputs through the library: the same bytes
+        # the worker wrote its stage timings; the metrics see the job and the worker
+        metrics = client.get("/metrics").text
+        assert 'catwalk_tryon_stage_seconds_count{stage="walking"} 1.0' in metrics
+        assert 'catwalk_tryon_seconds_count{status="done"} 1.0' in metrics
+        assert "catwalk_workers_alive 1.0" in metrics and "catwalk_worker_slots 1.0" in metrics
+        assert 'catwalk_jobs{state="done"} 1.0' in metrics
+                # the same inputs through the library: the same bytes
         assert plain.content == library_glb(client, body["id"], catalogue_dir,
                                             seconds=SKIRT["seconds"], preset="fast")
 

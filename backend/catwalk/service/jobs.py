@@ -14,6 +14,7 @@ the job is still its own attempt, running. A job whose worker died is run again 
 
 from __future__ import annotations
 
+import contextlib
 import secrets
 import threading
 from datetime import timedelta
@@ -99,7 +100,7 @@ def heartbeat(config: Config, job_id: str, attempt: int, progress: float, stage:
 
 
 def finish(config: Config, job_id: str, attempt: int, key: str, metrics: dict,
-           sizes: dict) -> bool:
+           sizes: dict, timings: dict | None = None) -> bool:
     """Mark the job done with its result (the files are already stored); the result's row is
     added if the key has none. False when the job is no longer this attempt's."""
     now = utcnow()
@@ -107,7 +108,7 @@ def finish(config: Config, job_id: str, attempt: int, key: str, metrics: dict,
         res = s.execute(
             update(TryOnRow).where(*_mine(job_id, attempt), TryOnRow.cancel_requested.is_(False))
             .values(status="done", progress=1.0, stage="done", finished_at=now,
-                    heartbeat_at=now)
+                    heartbeat_at=now, timings=timings)
             .execution_options(synchronize_session=False))
         if res.rowcount != 1:
             return False
@@ -128,13 +129,15 @@ def _insert_ignoring(session, table):
     return insert(table).on_conflict_do_nothing()
 
 
-def end(config: Config, job_id: str, attempt: int, status: str, error: str | None) -> bool:
-    """Mark the job ``failed`` or ``cancelled`` (with its reason)."""
+def end(config: Config, job_id: str, attempt: int, status: str, error: str | None,
+        timings: dict | None = None) -> bool:
+    """Mark the job ``failed`` or ``cancelled`` (with its reason and its stage timings)."""
     with db.session(config) as s:
         res = s.execute(
             update(TryOnRow).where(TryOnRow.id == job_id, TryOnRow.attempts == attempt,
                                    TryOnRow.status == "running")
-            .values(status=status, error=error, stage=status, finished_at=utcnow())
+            .values(status=status, error=error, stage=status, finished_at=utcnow(),
+                    timings=timings)
             .execution_options(synchronize_session=False))
         return res.rowcount == 1
 
@@ -264,3 +267,28 @@ def active_for(config: Config, body_id: str, key: str) -> TryOnRow | None:
                                                 TryOnRow.key == key,
                                                 TryOnRow.status.in_(ACTIVE))
                          .limit(1)).first()
+
+
+def seen(config: Config, worker: str, concurrency: int) -> None:
+    """The worker process ``worker`` (host:pid) is alive, running ``concurrency`` jobs at once."""
+    from catwalk.service.models import WorkerRow
+
+    now = utcnow()
+    with db.session(config) as s:
+        res = s.execute(update(WorkerRow).where(WorkerRow.id == worker)
+                        .values(seen_at=now, concurrency=concurrency)
+                        .execution_options(synchronize_session=False))
+        if res.rowcount == 0:
+            host, _, pid = worker.rpartition(":")
+            s.execute(_insert_ignoring(s, WorkerRow).values(
+                id=worker, host=host, pid=int(pid or 0), concurrency=concurrency,
+                started_at=now, seen_at=now))
+
+
+def gone(config: Config, worker: str) -> None:
+    """The worker process stopped cleanly."""
+    from catwalk.service.models import WorkerRow
+
+    with contextlib.suppress(Exception), db.session(config) as s:
+        s.execute(delete(WorkerRow).where(WorkerRow.id == worker)
+                  .execution_options(synchronize_session=False))

@@ -7,6 +7,7 @@
   fabric, seconds, preset), its state (``queued`` → ``running`` → ``done`` | ``failed`` |
   ``cancelled``), progress, and the worker's heartbeat; ``key`` is the content key of the
   result it makes.
+- ``workers``: the worker processes as last seen (for the metrics).
 - ``results``: a finished result, stored exactly once per content key (the files under
   ``results/<key>/`` in the storage are written first, then this row).
 
@@ -17,7 +18,18 @@ from __future__ import annotations
 
 from datetime import UTC, datetime
 
-from sqlalchemy import JSON, Boolean, DateTime, Float, ForeignKey, Index, Integer, String, Text
+from sqlalchemy import (
+    JSON,
+    Boolean,
+    DateTime,
+    Float,
+    ForeignKey,
+    Index,
+    Integer,
+    String,
+    Text,
+    text,
+)
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
 STATES = ("queued", "running", "done", "failed", "cancelled")
@@ -50,7 +62,12 @@ class BodyRow(Base):
 class TryOnRow(Base):
     __tablename__ = "tryons"
     __table_args__ = (Index("ix_tryons_status", "status"), Index("ix_tryons_key", "key"),
-                      Index("ix_tryons_body", "body_id"))
+                      Index("ix_tryons_body", "body_id"),
+                      Index("ix_tryons_finished", "finished_at"),
+                      # one queued or running try-on per body and content key
+                      Index("ux_tryons_active", "body_id", "key", unique=True,
+                            postgresql_where=text("status IN ('queued', 'running')"),
+                            sqlite_where=text("status IN ('queued', 'running')")))
 
     id: Mapped[str] = mapped_column(String(43), primary_key=True)
     key: Mapped[str] = mapped_column(String(64))
@@ -74,6 +91,7 @@ class TryOnRow(Base):
     started_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
     heartbeat_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
     finished_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+    timings: Mapped[dict | None] = mapped_column(JSON, nullable=True)   # stage → seconds
 
 
 class ResultRow(Base):
@@ -86,3 +104,16 @@ class ResultRow(Base):
     web_bytes: Mapped[int] = mapped_column(Integer)
     glb_sha256: Mapped[str] = mapped_column(String(64))
     web_sha256: Mapped[str] = mapped_column(String(64))
+
+
+class WorkerRow(Base):
+    """A worker process (``catwalk worker``'s main process) as last seen: its recovery loop
+    touches ``seen_at`` every few seconds; the metrics count those seen lately."""
+    __tablename__ = "workers"
+
+    id: Mapped[str] = mapped_column(String(255), primary_key=True)   # host:pid
+    host: Mapped[str] = mapped_column(String(255))
+    pid: Mapped[int] = mapped_column(Integer)
+    concurrency: Mapped[int] = mapped_column(Integer)
+    started_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    seen_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)

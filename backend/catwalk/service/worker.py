@@ -17,6 +17,7 @@ try-on at start), so no job pays for them.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
 import logging
@@ -27,7 +28,7 @@ import time
 import traceback
 
 from catwalk.config import Config, get_config
-from catwalk.errors import Cancelled, CatwalkError, InputError, SimulationError
+from catwalk.errors import Cancelled, CatwalkError, InputError, SetupError, SimulationError
 from catwalk.service import jobs
 from catwalk.service.catalogue import Catalogue
 from catwalk.service.keys import sha256
@@ -56,9 +57,20 @@ class Beat(threading.Thread):
         self.fraction, self.stage = 0.0, "starting"
         self.stop_asked = threading.Event()     # the job was cancelled, deleted, taken over
         self._done = threading.Event()
+        self.timings: dict[str, float] = {}     # seconds spent in each stage
+        self._since = time.perf_counter()
 
     def report(self, fraction: float, stage: str) -> None:
+        if stage != self.stage:
+            self.lap()
         self.fraction, self.stage = fraction, stage
+
+    def lap(self) -> dict[str, float]:
+        """Add the time since the last change of stage to the stage's; the timings so far."""
+        now = time.perf_counter()
+        self.timings[self.stage] = round(self.timings.get(self.stage, 0.0) + now - self._since, 4)
+        self._since = now
+        return self.timings
 
     def cancelled(self) -> bool:
         return self.stop_asked.is_set()
@@ -100,13 +112,14 @@ def run_job(config: Config, job_id: str) -> str:
     try:
         outcome = _execute(config, row, beat)
     except Cancelled:
-        jobs.end(config, job_id, row.attempts, "cancelled", "cancelled")
+        jobs.end(config, job_id, row.attempts, "cancelled", "cancelled", beat.lap())
         outcome = "cancelled"
     except (InputError, SimulationError) as exc:
-        jobs.end(config, job_id, row.attempts, "failed", str(exc))
+        jobs.end(config, job_id, row.attempts, "failed", str(exc), beat.lap())
         outcome = "failed"
     except CatwalkError as exc:
-        jobs.end(config, job_id, row.attempts, "failed", f"the service could not run it: {exc}")
+        jobs.end(config, job_id, row.attempts, "failed", f"the service could not run it: {exc}",
+                 beat.lap())
         outcome = "failed"
     except Exception as exc:
         from celery.exceptions import SoftTimeLimitExceeded
@@ -117,7 +130,7 @@ def run_job(config: Config, job_id: str) -> str:
             log.error(json.dumps({"event": "crashed", "job": job_id,
                                   "trace": traceback.format_exc()[-4000:]}))
             reason = f"internal error ({type(exc).__name__}); the job was not finished"
-        jobs.end(config, job_id, row.attempts, "failed", reason)
+        jobs.end(config, job_id, row.attempts, "failed", reason, beat.lap())
         outcome = "failed"
     finally:
         beat.finish()
@@ -136,7 +149,7 @@ def _execute(config: Config, row, beat: Beat) -> str:
 
     storage = Storage(config.storage_dir)
     if storage.result_file(row.key, "metrics.json").is_file():
-        return _finish_stored(config, row, storage)   # an earlier attempt stored it
+        return _finish_stored(config, row, storage, beat)   # an earlier attempt stored it
     entry = _catalogue(config).get(row.garment_id)
     if entry.version != row.garment_version:
         raise InputError(f"garment {row.garment_id!r} has changed since this try-on was asked "
@@ -155,6 +168,7 @@ def _execute(config: Config, row, beat: Beat) -> str:
                         progress=progress)
     progress.enter("exporting")
     glb = res.glb()
+    _check_space(storage, 3 * len(glb))
     progress.enter("compressing")   # the web copy: no normal targets (the player makes them)
     web, compression = compress_bytes(res.glb(normals=False), cancel=progress.cancelled,
                                       workdir=storage.root / "results")   # swept, not /tmp
@@ -164,10 +178,13 @@ def _execute(config: Config, row, beat: Beat) -> str:
     metrics = dict(res.metrics, compression=compression)
     files = {"tryon.glb": glb, "tryon.web.glb": web, "preview.png": png,
              "metrics.json": (json.dumps(metrics, indent=2) + "\n").encode()}
-    stored = storage.store_result(row.key, files)
+    try:
+        stored = storage.store_result(row.key, files)
+    except OSError as exc:   # the folder is whole or absent: never half a result
+        raise SetupError(f"the result could not be stored: {exc.strerror or exc}") from None
     sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
              "web_sha256": sha256(web)}
-    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes):
+    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes, beat.lap()):
         # cancelled, deleted (its body too) or taken over meanwhile
         if stored and jobs.result(config, row.key) is None and \
                 not jobs.result_in_use(config, row.key):
@@ -176,7 +193,19 @@ def _execute(config: Config, row, beat: Beat) -> str:
     return "done"
 
 
-def _finish_stored(config: Config, row, storage: Storage) -> str:
+def _check_space(storage: Storage, need: int) -> None:
+    """Refuse before writing when the storage cannot hold the result (with room to spare)."""
+    import shutil
+
+    where = storage.root / "results"
+    where.mkdir(parents=True, exist_ok=True)
+    free = shutil.disk_usage(where).free
+    if free < need:
+        raise SetupError(f"the storage is full: {free / 1e6:.1f} MB free where the result needs "
+                         f"about {need / 1e6:.1f} MB")
+
+
+def _finish_stored(config: Config, row, storage: Storage, beat: Beat) -> str:
     """Finish a job whose result is already stored under its key (an earlier attempt wrote
     it and died before its row, or a twin job of the same key did)."""
     glb = storage.result_file(row.key, "tryon.glb").read_bytes()
@@ -184,7 +213,7 @@ def _finish_stored(config: Config, row, storage: Storage) -> str:
     metrics = json.loads(storage.result_file(row.key, "metrics.json").read_text())
     sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
              "web_sha256": sha256(web)}
-    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes):
+    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes, beat.lap()):
         raise Cancelled("the job was cancelled or taken over")
     return "done"
 
@@ -253,17 +282,21 @@ def warm_up() -> float:
 
 class Recovery(threading.Thread):
     """Runs :func:`catwalk.service.jobs.recover` every few seconds (in the API and in every
-    worker's main process: their updates are conditional, so several never clash)."""
+    worker's main process: their updates are conditional, so several never clash). In a
+    worker it also marks the worker as seen (``concurrency``: its pool's size)."""
 
-    def __init__(self, config: Config, every_s: float = 2.0):
+    def __init__(self, config: Config, every_s: float = 2.0, concurrency: int | None = None):
         super().__init__(name="recovery", daemon=True)
-        self.config, self.every_s = config, every_s
+        self.config, self.every_s, self.concurrency = config, every_s, concurrency
         self.stop = threading.Event()
 
     def run(self) -> None:
         from catwalk.service.queue import queued_messages, send
 
         while not self.stop.wait(self.every_s):
+            if self.concurrency is not None:
+                with contextlib.suppress(Exception):
+                    jobs.seen(self.config, worker_name(), self.concurrency)
             try:
                 did = jobs.recover(self.config, lambda j: send(self.config, j),
                                    lambda: queued_messages(self.config))
@@ -291,7 +324,10 @@ def main(concurrency: int | None = None, loglevel: str | None = None) -> int:
 
     # after the pool's first children are made (replacements are forked later with it
     # running: the engines are per process and db's lock is made anew in a child)
-    worker_ready.connect(lambda **_: Recovery(config).start(), weak=False)
+    worker_ready.connect(lambda **_: Recovery(config, concurrency=n).start(), weak=False)
+    from celery.signals import worker_shutdown
+
+    worker_shutdown.connect(lambda **_: jobs.gone(config, worker_name()), weak=False)
     app = celery_app(config)
     argv = ["--quiet", "worker", f"--concurrency={n}", f"--queues={config.queue}", "--pool=prefork",
             f"--loglevel={(loglevel or config.log_level).upper()}", "--without-gossip",

@@ -22,6 +22,7 @@ from catwalk.service.api.errors import UploadTooLarge
 from catwalk.service.api.routes import bodies, garments, health, tryons
 from catwalk.service.bodies import BodyMaker
 from catwalk.service.catalogue import Catalogue
+from catwalk.service.metrics import Metrics
 from catwalk.service.storage import Storage
 from catwalk.service.thumbnails import Thumbnails
 
@@ -32,8 +33,8 @@ class LimitUploads:
     """ASGI middleware: a request body over ``limit`` bytes gets 413 without being read whole
     (refused on its Content-Length, or as soon as the bytes received pass the limit)."""
 
-    def __init__(self, app, limit: int):
-        self.app, self.limit = app, limit
+    def __init__(self, app, limit: int, refused=None):
+        self.app, self.limit, self.refused = app, limit, refused
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http" or scope["method"] not in ("POST", "PUT", "PATCH"):
@@ -67,6 +68,8 @@ class LimitUploads:
             await self._refuse(send, None)
 
     async def _refuse(self, send, length):
+        if self.refused is not None:
+            self.refused.labels("too_large").inc()
         told = f" ({length:,} bytes)" if length else ""
         body = json.dumps(errors.error_body(
             413, f"the upload{told} is over the limit of {self.limit:,} bytes"),
@@ -76,6 +79,37 @@ class LimitUploads:
                                 (b"content-length", str(len(body)).encode()),
                                 (b"connection", b"close")]})
         await send({"type": "http.response.body", "body": body})
+
+
+class TimeRequests:
+    """ASGI middleware: each request's seconds into ``histogram`` by route template (``/api/
+    tryons/{job_id}``, not the id: no personal data, few series), method and status."""
+
+    def __init__(self, app, histogram):
+        self.app, self.histogram = app, histogram
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        import time
+
+        t0 = time.perf_counter()
+        code = [500]
+
+        async def watched(msg):
+            if msg["type"] == "http.response.start":
+                code[0] = msg["status"]
+            await send(msg)
+
+        try:
+            await self.app(scope, receive, watched)
+        finally:
+            route = scope.get("route")
+            path = getattr(route, "path", None) or "unmatched"
+            if path == "/{path:path}":
+                path = "pages"
+            self.histogram.labels(path, scope["method"], str(code[0])).observe(
+                time.perf_counter() - t0)
 
 
 # paths that are the API's, never a page: an unknown one is the API's JSON 404
@@ -144,10 +178,13 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     app.state.catalogue = Catalogue(config)
     app.state.maker = BodyMaker(1)
     app.state.thumbnails = Thumbnails(app.state.storage, app.state.maker)
+    app.state.metrics = Metrics(config)
     errors.install(app)
     for r in (health.router, garments.router, bodies.router, tryons.router):
         app.include_router(r)
     if frontend is not None and (frontend / "index.html").is_file():
         _serve_pages(app, frontend)
-    app.add_middleware(LimitUploads, limit=config.upload_max_bytes)
+    app.add_middleware(LimitUploads, limit=config.upload_max_bytes,
+                       refused=app.state.metrics.refused)
+    app.add_middleware(TimeRequests, histogram=app.state.metrics.requests)
     return app

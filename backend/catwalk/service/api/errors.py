@@ -15,6 +15,7 @@ import traceback
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from catwalk.errors import InputError
@@ -23,7 +24,7 @@ log = logging.getLogger("catwalk.api")
 
 CODES = {400: "bad_request", 401: "unauthorized", 404: "not_found", 405: "method_not_allowed",
          409: "conflict", 413: "too_large", 415: "unsupported_media_type", 416: "bad_range",
-         422: "invalid", 503: "not_ready"}
+         422: "invalid", 503: "unavailable"}
 
 
 class UploadTooLarge(Exception):
@@ -101,6 +102,19 @@ def install(app: FastAPI) -> None:
             msg = f"no such route: {request.method} {request.url.path}"
         return _json(exc.status_code, error_body(exc.status_code, msg),
                      getattr(exc, "headers", None))
+
+    @app.exception_handler(DBAPIError)
+    async def _database_away(request: Request, exc: DBAPIError):
+        # the database cannot be reached (a restart, the network): nothing was changed; the
+        # client may try again (pool_pre_ping gives the next request a fresh connection)
+        if not exc.connection_invalidated and not isinstance(exc, (OperationalError,
+                                                                   InterfaceError)):
+            return await _unexpected(request, exc)
+        log.warning(json.dumps({"event": "database_unreachable", "path": request.url.path,
+                                "error": type(exc.orig).__name__ if exc.orig else "?"}))
+        return _json(503, error_body(503, "the database cannot be reached; try again in a few "
+                                          "seconds", code="unavailable"),
+                     {"Retry-After": "5"})
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):

@@ -147,8 +147,16 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
         await asyncio.to_thread(_insert, config, row)
     except InputError as exc:
         storage.remove_body(body_id)
+        if ctype.startswith("multipart"):
+            request.app.state.metrics.refused.labels("bad_scan").inc()
         raise ApiError(422, str(exc), exc.field or ("scan" if ctype.startswith("multipart")
                                                     else None)) from None
+    except ApiError as exc:
+        storage.remove_body(body_id)
+        if ctype.startswith("multipart") and exc.status in (400, 415, 422):
+            request.app.state.metrics.refused.labels(
+                {400: "unreadable", 415: "unsupported_type", 422: "bad_scan"}[exc.status]).inc()
+        raise
     except TimeoutError:
         storage.remove_body(body_id)
         raise ApiError(503, f"the body was not made within {config.body_timeout_s:g} s; try "

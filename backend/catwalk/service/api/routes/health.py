@@ -5,8 +5,8 @@ from __future__ import annotations
 import asyncio
 import time
 
-from fastapi import APIRouter, Depends
-from fastapi.responses import JSONResponse
+from fastapi import APIRouter, Depends, Request
+from fastapi.responses import JSONResponse, Response
 
 from catwalk.config import Config
 from catwalk.service.api import deps
@@ -26,6 +26,15 @@ def _probe(name: str, fn) -> dict:
         return {"ok": True, "ms": round(1e3 * (time.perf_counter() - t0), 1)}
     except Exception as exc:
         return {"ok": False, "error": f"{type(exc).__name__}: {exc}"[:300]}
+
+
+@router.get("/metrics", responses={200: {"content": {"text/plain": {}}}})
+async def metrics(request: Request):
+    """The service's metrics in Prometheus's text format (catwalk/service/metrics.py)."""
+    from prometheus_client import CONTENT_TYPE_LATEST
+
+    body = await asyncio.to_thread(request.app.state.metrics.exposition)
+    return Response(body, media_type=CONTENT_TYPE_LATEST)
 
 
 @router.get("/readyz")

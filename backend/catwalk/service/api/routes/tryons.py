@@ -10,6 +10,7 @@ import logging
 
 from fastapi import APIRouter, Depends, Query, Request
 from fastapi.responses import JSONResponse
+from sqlalchemy.exc import IntegrityError
 from sse_starlette.sse import EventSourceResponse
 
 from catwalk.config import Config
@@ -74,7 +75,19 @@ def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
     if running is not None:
         return running, False
     # the result, if there is one, cannot be deleted (its last body going) while this try-on
-    # is added as answered from it: its row is locked until the new row is in
+    # is added as answered from it: its row is locked until the new row is in. Two requests
+    # at once for the same try-on: the unique index on active (body, key) lets one row in;
+    # the other gets that row.
+    try:
+        return _add(config, storage, body, entry, req, size, fabric, key)
+    except IntegrityError:
+        running = jobs.active_for(config, body.id, key)
+        if running is None:
+            raise
+        return running, False
+
+
+def _add(config, storage, body, entry, req, size, fabric, key) -> tuple[TryOnRow, bool]:
     with jobs.RESULTS_LOCK, db.session(config) as s:
         result = jobs.lock_result(s, key)
         if result is not None and not storage.result_file(key, "tryon.glb").is_file():
@@ -97,13 +110,15 @@ def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
              responses={200: {"model": schemas.TryOn,
                               "description": "already made: answered from the cache"},
                         **schemas.ERRORS})
-async def create_tryon(req: schemas.TryOnRequest, config: Config = Depends(deps.config),
+async def create_tryon(req: schemas.TryOnRequest, request: Request,
+                       config: Config = Depends(deps.config),
                        catalogue=Depends(deps.catalogue), storage=Depends(deps.storage),
                        _json=Depends(deps.json_body)):
     """Ask for a try-on of a body in a catalogue garment."""
     from catwalk.service.queue import send
 
     row, needs_sending = await asyncio.to_thread(_submit, config, catalogue, storage, req)
+    request.app.state.metrics.cache.labels("hit" if row.cached else "miss").inc()
     if needs_sending:
         try:
             await asyncio.to_thread(send, config, row.id)

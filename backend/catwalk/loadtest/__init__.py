@@ -1,0 +1,1 @@
+"""``catwalk loadtest``: a realistic mix of shoppers against a running service (Locust)."""
