@@ -67,6 +67,7 @@ class Catalogue:
         self._lock = threading.Lock()
         self._stamp: tuple | None = None
         self._entries: dict[str, Entry] = {}
+        self._listing: list[dict] | None = None
 
     def _current_stamp(self) -> tuple:
         files = sorted(self.root.glob("*.json")) + sorted((self.root / "textures").glob("*"))
@@ -95,7 +96,17 @@ class Catalogue:
         with self._lock:
             if stamp != self._stamp:
                 self._entries, self._stamp = self._load(), stamp
+                self._listing = None
             return self._entries
+
+    def listing(self) -> list[dict]:
+        """Every garment's summary (``GET /api/garments``), made again only when a file
+        changed."""
+        entries = self.entries()
+        with self._lock:
+            if self._listing is None:
+                self._listing = [e.summary() for e in entries.values()]
+            return self._listing
 
     def get(self, garment_id: str) -> Entry:
         entry = self.entries().get(garment_id)

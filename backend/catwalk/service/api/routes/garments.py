@@ -26,8 +26,9 @@ def _entry(catalogue, garment_id: str):
 def list_garments(type: str | None = Query(None, description="only garments of this type"),
                   catalogue=Depends(deps.catalogue)) -> dict:
     """Every garment in the catalogue."""
-    items = [e.summary() for e in catalogue.entries().values()
-             if not type or e.garment.type == type]
+    items = catalogue.listing()
+    if type:
+        items = [g for g in items if g["type"] == type]
     return {"garments": items}
 
 

@@ -19,7 +19,7 @@ from catwalk.service import db, jobs, keys
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, check_id, not_found
 from catwalk.service.api.files import file_response
-from catwalk.service.models import FINISHED, BodyRow, TryOnRow, utcnow
+from catwalk.service.models import FINISHED, BodyRow, ResultRow, TryOnRow, utcnow
 
 router = APIRouter(prefix="/api/tryons", tags=["tryons"])
 log = logging.getLogger("catwalk.api")
@@ -32,6 +32,21 @@ def _view(config: Config, row: TryOnRow) -> dict:
         res = jobs.result(config, row.key)
         if res is not None:
             out["metrics"] = res.metrics
+    return out
+
+
+def _view_of(config: Config, job_id: str) -> dict:
+    """The try-on's JSON, read in one transaction (the status route's whole work)."""
+    check_id(job_id, "try-on")
+    with db.session(config) as s:
+        row = s.get(TryOnRow, job_id)
+        if row is None:
+            raise not_found("try-on", job_id)
+        out = jobs.view(row)
+        if row.status == "done":
+            res = s.get(ResultRow, row.key)
+            if res is not None:
+                out["metrics"] = res.metrics
     return out
 
 
@@ -134,7 +149,7 @@ async def create_tryon(req: schemas.TryOnRequest, request: Request,
 @router.get("/{job_id}", response_model=schemas.TryOn, response_model_exclude_none=True,
             responses=schemas.ERRORS)
 def get_tryon(job_id: str, config: Config = Depends(deps.config)) -> dict:
-    return _view(config, _job(config, job_id))
+    return _view_of(config, job_id)
 
 
 @router.get("/{job_id}/events", responses={200: {"content": {"text/event-stream": {}}},
