@@ -32,7 +32,7 @@ AXES = {
     ("obj", "m", 1.0, "yup"),
     ("ply", "cm", 100.0, "zup"),
     ("stl", "mm", 1000.0, "zup"),
-    ("glb", "dm", 10.0, "upside_down"),
+    ("glb", "m", 1.0, "upside_down"),   # glTF is metres: a GLB is never rescaled
     ("ply", "mm", 1000.0, "facing_x"),
 ])
 def test_round_trip(ext, unit, scale, axes, bodies, body_faces, tmp_path):

@@ -17,15 +17,22 @@ def recipes_path() -> Path:
 
 
 def _make(args) -> int:
-    from catwalk.body.make import make_body
-    from catwalk.exchange.gltf import write_glb
+    from catwalk.body.make import BodyRequest, make_body
+    from catwalk.exchange.gltf import glb_bytes
+    from catwalk.fileio import atomic_path, check_writable
 
     if not str(args.output).lower().endswith(".glb"):
         raise InputError(f"-o {args.output}: the body is written as a .glb file")
+    req = BodyRequest(sex=args.sex, height=args.height, bust=args.bust, waist=args.waist,
+                      hips=args.hips, underbust=args.underbust)
+    req.check()   # the measurements first, then the output, then seconds of fitting
+    check_writable(args.output, "-o")
     t0 = time.perf_counter()
     body = make_body(sex=args.sex, height=args.height, bust=args.bust, waist=args.waist,
                      hips=args.hips, underbust=args.underbust)
-    write_glb(args.output, body)
+    data = glb_bytes(body)
+    with atomic_path(args.output, "-o") as tmp:
+        tmp.write_bytes(data)
     measured = body.meta["measured"]
     summary = {"file": str(args.output), "seconds": round(time.perf_counter() - t0, 2),
                "requested": body.meta["requested"],

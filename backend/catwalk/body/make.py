@@ -52,6 +52,10 @@ class BodyRequest:
     def check(self) -> None:
         if self.sex not in ("female", "male"):
             raise InputError(f"sex must be female or male, not {self.sex!r}", "sex")
+        for key in ("height", *GIRTHS):
+            val = getattr(self, key)
+            if val is not None and (isinstance(val, bool) or not isinstance(val, (int, float))):
+                raise InputError(f"{key} must be a number of metres, got {val!r}", key)
         for key, (lo, hi) in RANGES.items():
             val = getattr(self, key)
             if val is None:
@@ -60,6 +64,9 @@ class BodyRequest:
                 raise InputError(
                     f"{key} {val:g} m is outside the adult range this body model covers "
                     f"({lo:g}–{hi:g} m); measurements are in metres", key)
+        if all(getattr(self, k) is None for k in ("bust", "waist", "hips")):
+            raise InputError("bust, waist and hips are missing: a body is made from its height "
+                             "and girths (metres; at least one of bust, waist, hips)", "bust")
         if self.underbust is not None and self.sex != "female":
             raise InputError("underbust applies to female bodies only", "underbust")
         if self.bust and self.waist and self.waist > self.bust + 0.12:

@@ -40,6 +40,13 @@ from catwalk.garment.geometry import (
 from catwalk.garment.model import Garment, Panel, Shape
 
 UNIT_SCALE = {"in": 0.0254, "mm": 0.001, "cm": 0.01, "m": 1.0, "ft": 0.3048}
+MAX_COORDINATE = 1000.0    # metres from the origin: pieces are laid out side by side
+MAX_PIECE_EXTENT = 3.0     # metres: catwalk.garment.check.MAX_PANEL_EXTENT
+MAX_QUANTITY = 20          # copies of one piece
+MAX_PIECES = 2000          # pieces (all sizes) in one file
+MAX_BYTES = 256 << 20      # a DXF file
+MAX_RUNS = 1000            # boundary polylines of one piece (chained end to end)
+MAX_POINTS = 20_000        # boundary points of one piece
 AAMA_UNITS = {"ENGLISH": "in", "METRIC": "mm"}
 INSUNITS = {1: "in", 2: "ft", 4: "mm", 5: "cm", 6: "m"}
 BOUNDARY, NOTCH, MIRROR, GRAIN = "1", "4", "6", "7"
@@ -97,16 +104,19 @@ def _read_doc(data: bytes, path: str):
                              "start)")
         encoding = dxf_stream_info(io.StringIO(head)).encoding
         return ezdxf.read(io.StringIO(data.decode(encoding, errors="surrogateescape"))), []
-    except ezdxf.DXFStructureError:
+    except InputError:
+        raise
+    except RecursionError:
+        raise InputError(f"{path}: not readable as DXF (nested too deeply)") from None
+    except Exception:  # noqa: BLE001 - ezdxf raises many kinds on damaged files: recover
         pass
-    except (LookupError, UnicodeDecodeError, ValueError, IndexError) as exc:
-        raise InputError(f"{path}: not readable as DXF ({exc})") from None
     try:
         doc, auditor = recover.read(io.BytesIO(data))
     except ezdxf.DXFStructureError as exc:
         raise InputError(f"{path}: not a DXF file, or damaged beyond repair ({exc})") from None
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"{path}: not readable as DXF ({exc})") from None
+    except Exception as exc:  # noqa: BLE001 - ezdxf raises many kinds on damaged files
+        raise InputError(f"{path}: not readable as DXF ({type(exc).__name__}: "
+                         f"{str(exc)[:200]})") from None
     if auditor.has_errors:
         msgs = "; ".join(str(e.message) for e in auditor.errors[:3])
         raise InputError(f"{path}: DXF damaged beyond repair ({msgs})")
@@ -206,6 +216,21 @@ def _to_segments(loop, where: str) -> list[Segment]:
     return segs
 
 
+def _checked(verts, scale: float, where: str, what: str = "a boundary point"
+             ) -> list[tuple[float, float, float]]:
+    """(x, y, bulge) in metres, every number finite and every point within MAX_COORDINATE."""
+    out = []
+    for x, y, b in verts:
+        x, y, b = float(x) * scale, float(y) * scale, float(b)
+        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(b)):
+            raise InputError(f"{where}: {what} (or its bulge) is not a finite number")
+        if abs(x) > MAX_COORDINATE or abs(y) > MAX_COORDINATE:
+            raise InputError(f"{where}: {what} lies {max(abs(x), abs(y)):.3g} m from the "
+                             "origin: not a pattern (are the units right?)")
+        out.append((x, y, b))
+    return out
+
+
 def _loop_from(entities, scale: float, where: str, tol: float):
     closed, runs = [], []
     for e in entities:
@@ -213,11 +238,16 @@ def _loop_from(entities, scale: float, where: str, tol: float):
         if got is None:
             continue
         verts, is_closed = got
-        verts = [(x * scale, y * scale, b) for x, y, b in verts]
+        verts = _checked(verts, scale, where)
         if is_closed:
             closed.append(verts)
         else:
             runs.append(verts)
+    if len(closed) + len(runs) > MAX_RUNS:
+        raise InputError(f"{where}: {len(closed) + len(runs):,} boundary polylines; at most "
+                         f"{MAX_RUNS:,} are chained")
+    if sum(len(v) for v in closed + runs) > MAX_POINTS:
+        raise InputError(f"{where}: more than {MAX_POINTS:,} boundary points: too detailed")
     if closed and not runs:
         if len(closed) > 1:  # keep the largest; inner loops are cut-outs we do not model
             closed.sort(key=lambda v: -abs(polygon_area(np.array([p[:2] for p in v]))))
@@ -251,28 +281,32 @@ def _units(doc, units: str | None, path: Path) -> float:
                      f"in the header; give --units (in, mm, cm, m)")
 
 
-def _notch_points(entities, scale: float, boundary: np.ndarray) -> np.ndarray:
+def _notch_points(entities, scale: float, boundary: np.ndarray, where: str) -> np.ndarray:
     pts = []
     for e in entities:
         t = e.dxftype()
         if t == "POINT":
-            pts.append((e.dxf.location.x * scale, e.dxf.location.y * scale))
+            loc = e.dxf.location
+            pts.append(_checked([(loc.x, loc.y, 0.0)], scale, where, "a notch")[0][:2])
         elif t in ("LINE", "POLYLINE", "LWPOLYLINE"):
             got = _polyline_vertices(e)
-            if not got:
+            if not got or not got[0]:
                 continue
-            ends = np.array([got[0][0][:2], got[0][-1][:2]]) * scale
+            ends = np.array([p[:2] for p in _checked([got[0][0], got[0][-1]], scale, where,
+                                                     "a notch")])
             d = [np.min(np.linalg.norm(boundary - p, axis=1)) for p in ends]
             pts.append(tuple(ends[int(np.argmin(d))]))
+        if len(pts) > 1000:
+            raise InputError(f"{where}: more than 1,000 notches")
     return np.array(pts, dtype=float).reshape(-1, 2)
 
 
-def _line_points(entities, scale: float) -> np.ndarray | None:
+def _line_points(entities, scale: float, where: str, what: str) -> np.ndarray | None:
     for e in entities:
         got = _polyline_vertices(e)
         if got and len(got[0]) >= 2:
-            v = got[0]
-            return np.array([v[0][:2], v[-1][:2]], dtype=float) * scale
+            v = _checked([got[0][0], got[0][-1]], scale, where, what)
+            return np.array([p[:2] for p in v], dtype=float)
     return None
 
 
@@ -301,7 +335,7 @@ def read_dxf(source, size: str | None = None, units: str | None = None
              ) -> tuple[list[Piece], list[str]]:
     """Pieces of a pattern DXF (a path, bytes or a binary file object; all sizes, or only
     ``size``) and warnings."""
-    data, path = read_source(source, "dxf")
+    data, path = read_source(source, "dxf", max_bytes=MAX_BYTES)
     doc, warnings = _read_doc(data, path)
     msp = doc.modelspace()
     if len(msp) == 0:
@@ -321,8 +355,10 @@ def read_dxf(source, size: str | None = None, units: str | None = None
         except Exception as exc:  # noqa: BLE001 - ezdxf raises many kinds on broken blocks
             raise InputError(f"{path}: block {bname!r} cannot be read ({exc})") from None
         texts = _texts(ents)
-        name = texts.get("piece name") or bname
-        psize = texts.get("size") or "one-size"
+        # names as the garment format takes them: non-empty, no surrounding spaces, ≤ 200
+        name = (texts.get("piece name") or "")[:200].strip() or str(bname)[:200].strip() \
+            or f"piece-{len(pieces) + 1}"
+        psize = (texts.get("size") or "")[:200].strip() or "one-size"
         where = f"{path}: piece {name!r} (size {psize})"
         boundary_ents = _on_layer(ents, BOUNDARY)
         if not any(_polyline_vertices(e) for e in boundary_ents):
@@ -343,6 +379,8 @@ def read_dxf(source, size: str | None = None, units: str | None = None
             name = f"{layer}-{counts[layer]}"
             where = f"{path}: piece {name!r}"
             pieces.append(_piece([e], [e], {}, name, "one-size", "", scale, where))
+    if len(pieces) > MAX_PIECES:
+        raise InputError(f"{path}: {len(pieces):,} pieces; at most {MAX_PIECES:,} are read")
     if not pieces:
         raise InputError(f"{path}: no pattern pieces found (no blocks with a layer-1 boundary and "
                          f"no closed polylines)")
@@ -362,26 +400,36 @@ def read_dxf(source, size: str | None = None, units: str | None = None
 
 
 def _piece(ents, boundary_ents, texts, name, psize, bname, scale, where) -> Piece:
+    raw_qty = texts.get("quantity", "1") or "1"
     try:
-        qty = int(float(texts.get("quantity", "1") or 1))
+        qty = float(raw_qty)
     except ValueError:
-        raise InputError(f"{where}: 'Quantity: {texts.get('quantity')}' is not a number") from None
-    if qty < 1:
-        raise InputError(f"{where}: quantity {qty} is less than 1")
+        raise InputError(f"{where}: 'Quantity: {raw_qty}' is not a number") from None
+    if not (math.isfinite(qty) and qty == int(qty) and 1 <= qty <= MAX_QUANTITY):
+        raise InputError(f"{where}: 'Quantity: {raw_qty}' is not a whole number of copies "
+                         f"1–{MAX_QUANTITY}")
+    qty = int(qty)
     # chaining tolerance: 0.5 mm
     loop = _loop_from(boundary_ents, scale, where, tol=5e-4)
     segs = _to_segments(loop, where)
     pts = flatten(segs, 1e-4).points
+    ext = float(np.ptp(pts, axis=0).max())
+    if ext > MAX_PIECE_EXTENT:
+        raise InputError(f"{where}: the piece is {ext:.4g} m across (at most "
+                         f"{MAX_PIECE_EXTENT:g} m): not garment-sized — are the units right "
+                         "(the file's 'Units:' text or $INSUNITS, or give the units)?")
+    if abs(polygon_area(pts)) < 1e-6:
+        raise InputError(f"{where}: the boundary encloses no area")
     origin = pts.min(axis=0)
     for s in segs:
         s.start = s.start - origin
     bpts = pts - origin
-    grain = _line_points(_on_layer(ents, GRAIN), scale)
+    grain = _line_points(_on_layer(ents, GRAIN), scale, where, "the grain line")
     if grain is not None:
         grain = grain - origin
-    notches = _notch_points(_on_layer(ents, NOTCH), scale, bpts + origin) - origin \
+    notches = _notch_points(_on_layer(ents, NOTCH), scale, bpts + origin, where) - origin \
         if _on_layer(ents, NOTCH) else np.zeros((0, 2))
-    mline = _line_points(_on_layer(ents, MIRROR), scale)
+    mline = _line_points(_on_layer(ents, MIRROR), scale, where, "the mirror line")
     fold = None
     if mline is not None:
         mline = mline - origin

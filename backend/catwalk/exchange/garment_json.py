@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.exchange.source import read_source
+from catwalk.exchange.source import MAX_JSON_BYTES, parse_json, read_source
 from catwalk.fileio import atomic_path
 from catwalk.garment.geometry import KINDS, Segment
 from catwalk.garment.model import (
@@ -32,6 +32,14 @@ from catwalk.garment.model import (
 
 FORMAT = "catwalk-garment"
 VERSION = 1
+# what one garment may hold (docs/garment-format.md, "Limits"); the catalogue's largest:
+# 3 sizes, 8 panels, 21 edges an outline, 23 seams
+MAX_SIZES = 50
+MAX_PANELS = 200
+MAX_EDGES = 5000        # segments of one outline
+MAX_NOTCHES = 1000      # of one shape
+MAX_SEAMS = 2000
+MAX_NAME = 200          # characters of a size or panel name
 
 
 # --- reading -------------------------------------------------------------------------------
@@ -84,9 +92,35 @@ def _str(v, where: str) -> str:
     return v
 
 
+def _name(v, where: str, what: str) -> str:
+    """A size or panel name: a non-empty string without surrounding spaces."""
+    if not isinstance(v, str) or not v.strip() or v != v.strip() or len(v) > MAX_NAME:
+        raise InputError(f"{where}: {what} {v!r:.60} is not a name (a non-empty string without "
+                         f"surrounding spaces, at most {MAX_NAME} characters)")
+    return v
+
+
+def _plain(v, where: str):
+    """A free-form JSON value (source, meta, texture, fabric) checked to hold only finite
+    numbers, so that the garment is written back as standard JSON."""
+    todo = [v]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, float) and not math.isfinite(x):
+            raise InputError(f"{where}: {x!r} is not a number JSON allows")
+        if isinstance(x, dict):
+            todo.extend(x.values())
+        elif isinstance(x, list):
+            todo.extend(x)
+    return v
+
+
 def _segments(raw, where: str) -> list[Segment]:
     if not isinstance(raw, list) or len(raw) < 2:
         raise InputError(f"{where}: outline must be a list of at least 2 segments")
+    if len(raw) > MAX_EDGES:
+        raise InputError(f"{where}: {len(raw):,} segments; an outline has at most "
+                         f"{MAX_EDGES:,}")
     segs = []
     for i, s in enumerate(raw):
         w = f"{where}, edge {i}"
@@ -119,8 +153,10 @@ def _shape(raw, where: str) -> Shape:
         if not isinstance(g, list) or len(g) != 2:
             raise InputError(f"{where}: grain is [[x0, y0], [x1, y1]] (from → to)")
         grain = np.stack([_pt(g[0], f"{where}, grain"), _pt(g[1], f"{where}, grain")])
-    notches = np.array([_pt(p, f"{where}, notch {i}") for i, p in
-                        enumerate(_list(raw.get("notches", []), f"{where}, notches"))],
+    raw_notches = _list(raw.get("notches", []), f"{where}, notches")
+    if len(raw_notches) > MAX_NOTCHES:
+        raise InputError(f"{where}: {len(raw_notches):,} notches; at most {MAX_NOTCHES:,}")
+    notches = np.array([_pt(p, f"{where}, notch {i}") for i, p in enumerate(raw_notches)],
                        dtype=float).reshape(-1, 2)
     labels = {}
     for k, v in _obj(raw.get("labels") or {}, f"{where}, labels").items():
@@ -177,7 +213,7 @@ def _placement(raw, where: str) -> Placement | None:
         if r.shape != (3, 3) or tr.shape != (3,) or not (np.all(np.isfinite(r))
                                                          and np.all(np.isfinite(tr))):
             raise InputError(f"{w}, transform: needs rotation (3×3) and translation (3)")
-        pl.transform = dict(t)
+        pl.transform = dict(_plain(t, f"{w}, transform"))
     return pl
 
 
@@ -197,9 +233,12 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
                       name: str | None = None) -> Garment:
     """A garment from its parsed JSON. ``path``: the file it came from (textures are relative
     to its folder); ``name``: how messages call it (default: the path, or "garment")."""
+    from catwalk.exchange.source import check_depth
+
     src = name or (f"{path}" if path else "garment")
     if not isinstance(data, dict):
         raise InputError(f"{src}: not a garment (expected a JSON object)")
+    check_depth(data, src)
     if data.get("format") != FORMAT:
         raise InputError(f"{src}: not a catwalk garment (\"format\" must be {FORMAT!r})")
     version = data.get("version")
@@ -217,14 +256,21 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
     if (not isinstance(sizes, list) or not sizes or not all(isinstance(s, str) for s in sizes)
             or len(set(sizes)) != len(sizes)):
         raise InputError(f"{src}: sizes must be a non-empty list of distinct names")
+    if len(sizes) > MAX_SIZES:
+        raise InputError(f"{src}: {len(sizes):,} sizes; a garment has at most {MAX_SIZES}")
+    for s in sizes:
+        _name(s, f"{src}: sizes", "size")
     panels = []
     seen = set()
     if not isinstance(data["panels"], list) or not data["panels"]:
         raise InputError(f"{src}: panels must be a non-empty list")
+    if len(data["panels"]) > MAX_PANELS:
+        raise InputError(f"{src}: {len(data['panels']):,} panels; a garment has at most "
+                         f"{MAX_PANELS}")
     for i, rp in enumerate(data["panels"]):
         if not isinstance(rp, dict) or not isinstance(rp.get("name"), str):
             raise InputError(f"{src}: panel {i} has no name")
-        pname = rp["name"]
+        pname = _name(rp["name"], f"{src}: panel {i}", "name")
         w = f"{src}: panel {pname!r}"
         if pname in seen:
             raise InputError(f"{w}: two panels have this name")
@@ -251,7 +297,7 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
             if shapes:
                 raise InputError(f"{w}: a copy_of panel takes its outline from {copy!r}; "
                                  f"it has no shapes of its own")
-        texture = rp.get("texture")
+        texture = _plain(rp.get("texture"), f"{w}: texture")
         if texture is not None:
             if not isinstance(texture, dict) or not isinstance(texture.get("image"), str):
                 raise InputError(f"{w}: texture is {{\"image\": path, \"size\": [w, h]}}")
@@ -259,13 +305,13 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
                 sz = _list(texture["size"], f"{w}: texture size", "[w, h] in metres")
                 if len(sz) != 2 or any(_num(x, f"{w}: texture size") <= 0 for x in sz):
                     raise InputError(f"{w}: texture size is [w, h] in metres, both > 0")
-        fabric = rp.get("fabric")
+        fabric = _plain(rp.get("fabric"), f"{w}: fabric")
         if fabric is not None and not isinstance(fabric, (str, dict)):
             raise InputError(f"{w}: fabric is a preset name or a custom fabric object")
         panels.append(Panel(pname, ptype, shapes, fold, copy,
                             _bool(rp.get("mirror", False), f"{w}: mirror"), fabric, texture,
                             _placement(rp.get("placement"), f"{w}"),
-                            dict(_obj(rp.get("meta", {}), f"{w}: meta"))))
+                            dict(_plain(_obj(rp.get("meta", {}), f"{w}: meta"), f"{w}: meta"))))
     names = {p.name for p in panels}
     for p in panels:
         if p.copy_of is not None:
@@ -281,7 +327,10 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
             if p.fold is None:
                 p.fold = q.fold
     seams = []
-    for i, rs in enumerate(_list(data.get("seams", []), f"{src}: seams")):
+    raw_seams = _list(data.get("seams", []), f"{src}: seams")
+    if len(raw_seams) > MAX_SEAMS:
+        raise InputError(f"{src}: {len(raw_seams):,} seams; a garment has at most {MAX_SEAMS}")
+    for i, rs in enumerate(raw_seams):
         w = f"{src}: seam {i}"
         if not isinstance(rs, dict) or "a" not in rs or "b" not in rs:
             raise InputError(f"{w}: a seam is {{\"a\": side, \"b\": side, \"reverse\": bool}}")
@@ -299,7 +348,7 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
     default = data.get("default_size")
     if default is not None and default not in sizes:
         raise InputError(f"{src}: default_size {default!r} is not in sizes")
-    fabric = data.get("fabric", "cotton-jersey")
+    fabric = _plain(data.get("fabric", "cotton-jersey"), f"{src}: fabric")
     if not isinstance(fabric, (str, dict)):
         raise InputError(f"{src}: fabric is a preset name or a custom fabric object")
     fit = data.get("fit", {})
@@ -308,7 +357,8 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
         raise InputError(f"{src}: fit maps sizes to sample-body names (bodies/recipes.json)")
     return Garment(name, gtype, list(sizes), panels, seams, fabric, default,
                    _str(data.get("description", ""), f"{src}: description"),
-                   dict(_obj(data.get("source", {}), f"{src}: source")), dict(fit),
+                   dict(_plain(_obj(data.get("source", {}), f"{src}: source"), f"{src}: source")),
+                   dict(fit),
                    Path(path) if path else None)
 
 
@@ -321,11 +371,8 @@ def load_garment(source, *, base_dir: str | Path | None = None) -> Garment:
         return garment_from_dict(source, where)
     if isinstance(source, (str, Path)) and not Path(source).is_file():
         raise InputError(f"{source}: no such garment file")
-    data, name = read_source(source, "garment")
-    try:
-        parsed = json.loads(data.decode("utf-8"))
-    except (UnicodeDecodeError, ValueError) as exc:
-        raise InputError(f"{name}: not readable JSON ({exc})") from None
+    data, name = read_source(source, "garment", max_bytes=MAX_JSON_BYTES)
+    parsed = parse_json(data, name)
     path = Path(source) if isinstance(source, (str, Path)) else (
         Path(base_dir) / Path(name).name if base_dir is not None else None)
     return garment_from_dict(parsed, path, name=name)
@@ -408,7 +455,9 @@ def garment_bytes(g: Garment) -> bytes:
     return (json.dumps(garment_to_dict(g), indent=1) + "\n").encode()
 
 
-def save_garment(g: Garment, path: str | Path) -> None:
+def save_garment(g: Garment, path: str | Path, flag: str | None = None) -> None:
+    """Write the garment's JSON to ``path`` atomically (``flag``: the option that named the
+    path, for messages)."""
     data = garment_bytes(g)
-    with atomic_path(path) as tmp:
+    with atomic_path(path, flag) as tmp:
         tmp.write_bytes(data)

@@ -31,7 +31,7 @@ import numpy as np
 from catwalk.errors import InputError
 from catwalk.exchange.source import read_json
 from catwalk.garment.geometry import Segment, run_length, segment_lengths
-from catwalk.garment.model import Garment, Panel, Placement, Seam, SeamSide, Shape
+from catwalk.garment.model import GARMENT_TYPES, Garment, Panel, Placement, Seam, SeamSide, Shape
 
 
 def euler_xyz(deg) -> np.ndarray:
@@ -43,32 +43,68 @@ def euler_xyz(deg) -> np.ndarray:
     return rz @ ry @ rx
 
 
-def _rel_to_abs(p0: np.ndarray, p1: np.ndarray, rel) -> np.ndarray:
+MAX_PANELS = 200
+MAX_EDGES = 1000       # per panel
+MAX_STITCHES = 5000
+MAX_METRES = 100.0     # no coordinate of a garment (or its placement) is farther than this
+
+
+def _number(v, where: str) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise InputError(f"{where}: expected a finite number, got {v!r:.60}")
+    return float(v)
+
+
+def _numbers(v, n: int, where: str) -> list[float]:
+    if not isinstance(v, list) or len(v) != n:
+        raise InputError(f"{where}: expected {n} numbers, got {v!r:.60}")
+    return [_number(x, where) for x in v]
+
+
+def _near(p: np.ndarray, where: str) -> np.ndarray:
+    """A point (or points) in metres, checked to lie within :data:`MAX_METRES`."""
+    if not np.all(np.isfinite(p)) or np.abs(p).max(initial=0.0) > MAX_METRES:
+        raise InputError(f"{where}: lies more than {MAX_METRES:g} m away: not a garment "
+                         "(are properties.units_in_meter right?)")
+    return p
+
+
+def _rel_to_abs(p0: np.ndarray, p1: np.ndarray, rel, where: str) -> np.ndarray:
+    t, k = _numbers(rel, 2, f"{where}: control point [t, k]")
     e = p1 - p0
-    return p0 + float(rel[0]) * e + float(rel[1]) * np.array([-e[1], e[0]])
+    return _near(p0 + t * e + k * np.array([-e[1], e[0]]), f"{where}: control point")
 
 
 def _segment(p0, p1, curv, where: str) -> Segment:
     if not curv:
         return Segment("line", p0)
+    if not isinstance(curv, dict):
+        raise InputError(f"{where}: curvature must be an object with type and params, got "
+                         f"{curv!r:.60}")
     kind = curv.get("type")
     params = curv.get("params", [])
-    try:
-        if kind == "quadratic":
-            return Segment("quadratic", p0, [_rel_to_abs(p0, p1, params[0])])
-        if kind == "cubic":
-            return Segment("cubic", p0, [_rel_to_abs(p0, p1, params[0]),
-                                          _rel_to_abs(p0, p1, params[1])])
-        if kind == "circle":
-            radius, large, right = float(params[0]), bool(params[1]), bool(params[2])
-            chord = float(np.linalg.norm(p1 - p0))
-            half = math.asin(min(1.0, chord / (2.0 * radius)))
-            theta = 2.0 * half if not large else 2.0 * math.pi - 2.0 * half
-            bulge = math.tan(theta / 4.0) * (1.0 if right else -1.0)
-            return Segment("arc", p0, bulge=bulge)
-    except (IndexError, TypeError, ValueError, ZeroDivisionError):
-        raise InputError(f"{where}: curvature {curv!r} cannot be read") from None
-    raise InputError(f"{where}: unknown curvature type {kind!r}")
+    if not isinstance(params, list):
+        raise InputError(f"{where}: curvature params must be a list, got {params!r:.60}")
+    need = {"quadratic": 1, "cubic": 2, "circle": 3}.get(kind) if isinstance(kind, str) else None
+    if need is None:
+        raise InputError(f"{where}: unknown curvature type {kind!r:.60} (quadratic, cubic, "
+                         "circle)")
+    if len(params) < need:
+        raise InputError(f"{where}: a {kind} curvature needs {need} params, got {len(params)}")
+    if kind == "quadratic":
+        return Segment("quadratic", p0, [_rel_to_abs(p0, p1, params[0], where)])
+    if kind == "cubic":
+        return Segment("cubic", p0, [_rel_to_abs(p0, p1, params[0], where),
+                                      _rel_to_abs(p0, p1, params[1], where)])
+    radius = _number(params[0], f"{where}: circle radius")
+    if radius <= 0:
+        raise InputError(f"{where}: circle radius must be positive, got {radius:g}")
+    large, right = bool(params[1]), bool(params[2])
+    chord = float(np.linalg.norm(p1 - p0))
+    half = math.asin(min(1.0, chord / (2.0 * radius)))
+    theta = 2.0 * half if not large else 2.0 * math.pi - 2.0 * half
+    bulge = math.tan(theta / 4.0) * (1.0 if right else -1.0)
+    return Segment("arc", p0, bulge=bulge)
 
 
 def _panel_type(name: str, label) -> str:
@@ -108,34 +144,78 @@ def _hints(name: str, ptype: str, centre3d: np.ndarray) -> Placement:
 
 def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: str | None = None,
                            size: str = "M", where: str = "spec") -> Garment:
-    try:
-        pattern = spec["pattern"]
-        raw_panels = pattern["panels"]
-        stitches = pattern.get("stitches", [])
-    except (KeyError, TypeError):
-        raise InputError(f"{where}: not a GarmentCode specification (no pattern.panels)") from None
+    if garment_type is not None and (not isinstance(garment_type, str)
+                                     or garment_type not in GARMENT_TYPES):
+        raise InputError(f"garment type {garment_type!r} is not one of "
+                         f"{', '.join(GARMENT_TYPES)}", "type")
+    if not isinstance(size, str) or not size.strip() or size != size.strip():
+        raise InputError(f"size {size!r}: a size is a non-empty name without surrounding "
+                         "spaces (e.g. M)", "size")
+    if not isinstance(name, str) or not name.strip():
+        raise InputError(f"name {name!r}: a garment needs a name", "name")
+    pattern = spec.get("pattern") if isinstance(spec, dict) else None
+    if not isinstance(pattern, dict) or "panels" not in pattern:
+        raise InputError(f"{where}: not a GarmentCode specification (no pattern.panels)")
+    raw_panels = pattern["panels"]
+    if not isinstance(raw_panels, dict):
+        raise InputError(f"{where}: pattern.panels must be an object mapping panel names to "
+                         f"panels, got {type(raw_panels).__name__}")
+    if not raw_panels:
+        raise InputError(f"{where}: pattern.panels is empty: a garment needs panels")
+    if len(raw_panels) > MAX_PANELS:
+        raise InputError(f"{where}: {len(raw_panels):,} panels; at most {MAX_PANELS} are read")
+    stitches = pattern.get("stitches", [])
+    if not isinstance(stitches, list):
+        raise InputError(f"{where}: pattern.stitches must be a list of stitches")
+    if len(stitches) > MAX_STITCHES:
+        raise InputError(f"{where}: {len(stitches):,} stitches; at most {MAX_STITCHES} are read")
     props = spec.get("properties", {})
+    if not isinstance(props, dict):
+        raise InputError(f"{where}: properties must be an object")
     if props.get("curvature_coords", "relative") != "relative":
         raise InputError(f"{where}: only curvature_coords \"relative\" is supported")
-    units = float(props.get("units_in_meter", 100))
+    units = props.get("units_in_meter", 100)
+    if isinstance(units, bool) or not isinstance(units, (int, float)) \
+            or not math.isfinite(units) or units <= 0:
+        raise InputError(f"{where}: properties.units_in_meter must be a positive number (100: "
+                         f"the pattern is in centimetres), got {units!r}")
     scale = 1.0 / units
     order = pattern.get("panel_order") or list(raw_panels)
+    if not isinstance(order, list) or not all(isinstance(p, str) and p in raw_panels
+                                              for p in order) or len(set(order)) != len(order):
+        raise InputError(f"{where}: pattern.panel_order must list the panels' names, each once")
+    order += [p for p in raw_panels if p not in order]
     panels: list[Panel] = []
     world: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     edge_vertex: dict[str, list[int]] = {}
     for pname in order:
         rp = raw_panels[pname]
         w = f"{where}: panel {pname!r}"
-        try:
-            verts = np.asarray(rp["vertices"], dtype=float) * scale
-            edges = rp["edges"]
-        except (KeyError, TypeError, ValueError):
-            raise InputError(f"{w}: needs vertices and edges") from None
+        if not isinstance(rp, dict) or not isinstance(rp.get("vertices"), list) \
+                or not isinstance(rp.get("edges"), list):
+            raise InputError(f"{w}: needs vertices and edges")
+        verts = _near(np.array([_numbers(v, 2, f"{w}, vertex {k}")
+                                for k, v in enumerate(rp["vertices"])],
+                               dtype=float).reshape(-1, 2) * scale, f"{w}: a vertex")
+        edges = rp["edges"]
+        if len(edges) < 3:
+            raise InputError(f"{w}: needs at least 3 edges, has {len(edges)}")
+        if len(edges) > MAX_EDGES:
+            raise InputError(f"{w}: {len(edges):,} edges; at most {MAX_EDGES} are read")
+        ends = []
+        for k, e in enumerate(edges):
+            ep = e.get("endpoints") if isinstance(e, dict) else None
+            if not isinstance(ep, list) or len(ep) != 2 or not all(
+                    isinstance(x, int) and not isinstance(x, bool) and 0 <= x < len(verts)
+                    for x in ep):
+                raise InputError(f"{w}, edge {k}: endpoints must be two vertex numbers "
+                                 f"0…{len(verts) - 1}, got {ep!r:.60}")
+            ends.append(ep)
         segs = []
         starts = []
         for k, e in enumerate(edges):
-            i, j = e["endpoints"]
-            nxt = edges[(k + 1) % len(edges)]["endpoints"][0]
+            i, j = ends[k]
+            nxt = ends[(k + 1) % len(edges)][0]
             if j != nxt:
                 raise InputError(f"{w}, edge {k}: ends at vertex {j} but edge "
                                  f"{(k + 1) % len(edges)} starts at vertex {nxt} (the edges do "
@@ -143,8 +223,9 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
             segs.append(_segment(verts[i], verts[j], e.get("curvature"), f"{w}, edge {k}"))
             starts.append(i)
         edge_vertex[pname] = starts
-        rot = euler_xyz(rp.get("rotation", [0, 0, 0]))
-        trans = np.asarray(rp.get("translation", [0, 0, 0]), dtype=float) * scale
+        rot = euler_xyz(_numbers(rp.get("rotation", [0, 0, 0]), 3, f"{w}: rotation"))
+        trans = _near(np.asarray(_numbers(rp.get("translation", [0, 0, 0]), 3,
+                                          f"{w}: translation")) * scale, f"{w}: translation")
         world[pname] = (rot, trans)
         centre = rot @ np.append(verts.mean(axis=0), 0.0) + trans
         ptype = _panel_type(pname, rp.get("label"))
@@ -152,17 +233,21 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
         pl.transform = {"rotation": [[round(float(v), 9) for v in row] for row in rot],
                         "translation": [round(float(v), 6) for v in trans],
                         "reference": "GarmentCode average body (SMPL, metres)"}
-        labels = {k: str(e["label"]) for k, e in enumerate(edges) if e.get("label")}
+        labels = {k: str(e["label"])[:200] for k, e in enumerate(edges) if e.get("label")}
+        label = rp.get("label")
         panels.append(Panel(pname, ptype, {size: Shape(segs, np.array([[0.0, 0.0], [0.0, 1.0]]),
                                                        labels=labels)},
-                            placement=pl, meta={"garmentcode_label": rp.get("label")}))
+                            placement=pl, meta={"garmentcode_label": label if isinstance(
+                                label, (str, int, float, type(None))) else str(label)[:200]}))
     seams = []
     for i, st in enumerate(stitches):
-        try:
-            (a, b) = st[:2]
-            pa, ea, pb, eb = a["panel"], int(a["edge"]), b["panel"], int(b["edge"])
-        except (KeyError, TypeError, ValueError):
-            raise InputError(f"{where}: stitch {i} is not a pair of {{panel, edge}}") from None
+        if not isinstance(st, list) or len(st) < 2 or not all(
+                isinstance(x, dict) and isinstance(x.get("panel"), str)
+                and isinstance(x.get("edge"), int) and not isinstance(x.get("edge"), bool)
+                for x in st[:2]):
+            raise InputError(f"{where}: stitch {i} is not a pair of {{panel, edge}}")
+        (a, b) = st[:2]
+        pa, ea, pb, eb = a["panel"], a["edge"], b["panel"], b["edge"]
         sides = []
         ends3d = []
         for p, e in ((pa, ea), (pb, eb)):
@@ -185,9 +270,9 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
         la, lb = (run_length(segment_lengths(next(q for q in panels if q.name == sd.panel)
                                              .shapes[size].outline), sd.start, sd.end)
                   for sd in sides)
-        diff = abs(la - lb) / max(la, lb)
+        diff = abs(la - lb) / max(la, lb) if max(la, lb) > 0 else 0.0
         if diff > 0.02:
-            seam.ease = math.ceil(diff * 100.0 + 1.0) / 100.0
+            seam.ease = min(0.99, math.ceil(diff * 100.0 + 1.0) / 100.0)
             seam.kind = "gather" if diff > 0.1 else "eased"
         seams.append(seam)
     if garment_type is None:

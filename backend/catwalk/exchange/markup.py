@@ -238,12 +238,12 @@ def _split(g: Garment, p: Panel, sp, where: str) -> None:
                 segs = other.shapes[size].outline
                 length = run_length(segment_lengths(segs), int(length["start"]),
                                     int(length["end"]))
-            except (KeyError, TypeError, ValueError):
-                raise InputError(f"{where}: length run {sp['length']!r} cannot be measured") \
-                    from None
+            except (KeyError, TypeError, ValueError, OverflowError):
+                raise InputError(f"{where}: length run {sp['length']!r:.80} cannot be "
+                                 "measured") from None
         try:
             shape.outline, v = split_at_length(shape.outline, int(sp["from"]), float(length))
-        except (ValueError, TypeError, IndexError) as exc:
+        except (ValueError, TypeError, IndexError, OverflowError) as exc:
             raise InputError(f"{where} (size {size}): {exc}") from None
         new.add(v)
     if len(new) > 1:

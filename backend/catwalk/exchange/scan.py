@@ -4,7 +4,7 @@
 degenerate, a human size, at most :data:`MAX_FACES` faces), then finds
 
 - the unit: the one of m, dm, cm, mm that makes the body 1.0–2.3 m tall (MakeHuman's OBJ is in
-  decimetres);
+  decimetres); a GLB is always metres (glTF's unit), so one that is not 1.0–2.3 m is refused;
 - the up axis: the axis of largest extent (if a second axis is nearly as long, as in a T-pose,
   the one whose end shows two feet wins); its sign: the end whose sections near it (4, 8, 12 %)
   show two loops of a kind side by side (feet, shins; not hair around a head or eyes inside
@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import io
 import struct
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +36,9 @@ from catwalk.errors import InputError
 from catwalk.exchange.source import read_source
 
 MAX_FACES = 2_000_000
+MAX_VERTICES = 3 * MAX_FACES
+MAX_BYTES = 512 << 20          # a scan file (an ASCII STL of MAX_FACES faces is ~500 MB)
+MAX_COORDINATE = 1e12          # file units: farther from the origin is no body in any unit
 EXTENSIONS = {".obj": "obj", ".ply": "ply", ".stl": "stl", ".glb": "glb"}
 UNITS = (("m", 1.0), ("dm", 0.1), ("cm", 0.01), ("mm", 0.001))
 HUMAN_HEIGHT = (1.0, 2.3)  # metres
@@ -109,19 +113,27 @@ def _precheck(data: bytes, path: str, fmt: str) -> None:
             raise InputError(f"{path}: not a PLY file (no 'ply' magic)")
         for line in head.split(b"\n"):
             parts = line.split()
-            if len(parts) == 3 and parts[0] == b"element" and parts[1] == b"face":
+            if len(parts) >= 2 and parts[0] == b"element":
                 try:
-                    n = int(parts[2])
+                    n = int(parts[2]) if len(parts) == 3 else -1
                 except ValueError:
-                    raise InputError(f"{path}: bad PLY header line {line!r}") from None
-                if n > MAX_FACES:
-                    raise InputError(f"{path}: {n:,} faces; at most {MAX_FACES:,} are accepted")
+                    n = -1
+                if n < 0:
+                    raise InputError(f"{path}: bad PLY header line {line[:80]!r}: an element "
+                                     "needs a name and a count")
+                limit, what = {b"face": (MAX_FACES, "faces"),
+                               b"vertex": (MAX_VERTICES, "vertices")}.get(parts[1], (None, ""))
+                if limit is not None and n > limit:
+                    raise InputError(f"{path}: the header claims {n:,} {what}; at most "
+                                     f"{limit:,} are accepted")
             if line.strip() == b"end_header":
                 break
     elif fmt == "glb":
         head = data[:12]
-        if len(head) < 12 or head[:4] != b"glTF":
+        if head[:4] != b"glTF":
             raise InputError(f"{path}: not a GLB file (no 'glTF' magic)")
+        if len(head) < 12:
+            raise InputError(f"{path}: truncated GLB ({size} bytes)")
         (length,) = struct.unpack("<I", head[8:12])
         if size < length:
             raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
@@ -129,6 +141,14 @@ def _precheck(data: bytes, path: str, fmt: str) -> None:
 
 
 def _read(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
+    # trimesh casts what it parses (NaN, overflowing numbers): quietly here, they are
+    # reported below as non-finite vertices
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return _read_quietly(data, path, fmt)
+
+
+def _read_quietly(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
     import trimesh
 
     try:
@@ -152,14 +172,22 @@ def _read(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
             if not isinstance(geom, trimesh.Trimesh):
                 continue
             v = np.asarray(geom.vertices, dtype=np.float64)
-            f = np.asarray(geom.faces, dtype=np.int64).reshape(-1, 3)
+            f = np.asarray(geom.faces)
+            if len(f) == 0:
+                continue
+            if v.ndim != 2 or v.shape[1] != 3 or f.ndim != 2 or f.shape[1] != 3 \
+                    or f.dtype.kind not in "iu":
+                raise InputError(f"{path}: cannot read the {fmt.upper()} file: its vertices "
+                                 "are not 3D points or its faces not triangles")
+            f = f.astype(np.int64)
             T = np.asarray(transform, dtype=np.float64)
             if len(v) and not np.array_equal(T, np.eye(4)):
-                with np.errstate(invalid="ignore", over="ignore"):  # NaN is reported later
-                    v = v @ T[:3, :3].T + T[:3, 3]
+                v = v @ T[:3, :3].T + T[:3, 3]
             verts.append(v)
             faces.append(f + offset)
             offset += len(v)
+    except InputError:
+        raise
     except Exception as exc:
         raise InputError(f"{path}: cannot read the {fmt.upper()} file: {exc}") from None
     if not faces or offset == 0 or sum(len(f) for f in faces) == 0:
@@ -399,7 +427,7 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
         if format is None and suffix not in EXTENSIONS:
             raise InputError(f"{source}: unsupported file type {suffix or '(none)'!r}; "
                              "use .obj, .ply, .stl or .glb")
-    data, path = read_source(source, "scan")
+    data, path = read_source(source, "scan", max_bytes=MAX_BYTES)
     fmt = scan_format(source, data, path, format)
     path = name or path
     _precheck(data, path, fmt)
@@ -409,9 +437,15 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
     if f.min() < 0 or f.max() >= len(v):
         raise InputError(f"{path}: a face refers to a vertex that does not exist "
                          "(truncated or corrupt file)")
+    if len(v) > MAX_VERTICES:
+        raise InputError(f"{path}: {len(v):,} vertices; at most {MAX_VERTICES:,} are accepted")
     if not np.isfinite(v).all():
         bad = int(np.count_nonzero(~np.isfinite(v).all(axis=1)))
         raise InputError(f"{path}: {bad:,} vertices have NaN or infinite coordinates")
+    far = float(np.abs(v).max())
+    if far > MAX_COORDINATE:
+        raise InputError(f"{path}: a coordinate is {far:.3g} file units from the origin: not a "
+                         "body in any unit")
     used = _used(f, len(v))
     vu = v[used]
     ext = vu.max(axis=0) - vu.min(axis=0)
@@ -424,10 +458,15 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
     if np.count_nonzero(tiny) > 0.5 * len(f):
         raise InputError(f"{path}: degenerate geometry: {np.count_nonzero(tiny):,} of "
                          f"{len(f):,} faces have zero area")
-    # units from a plausible human height
+    # units from a plausible human height; glTF is in metres (its specification says so)
     height_file = float(ext.max())
+    if fmt == "glb":
+        if not HUMAN_HEIGHT[0] <= height_file <= HUMAN_HEIGHT[1]:
+            raise InputError(
+                f"{path}: not a human size: the largest extent is {height_file:.6g} m (glTF "
+                f"files are in metres; a body is {HUMAN_HEIGHT[0]}–{HUMAN_HEIGHT[1]} m tall)")
     unit = None
-    for name, s in UNITS:
+    for name, s in UNITS[:1] if fmt == "glb" else UNITS:
         if HUMAN_HEIGHT[0] <= height_file * s <= HUMAN_HEIGHT[1]:
             unit = (name, s)
             break

@@ -153,14 +153,14 @@ def load_scene(source) -> Scene:
     """The scene of a try-on .glb (a path, bytes or a binary file object)."""
     from catwalk.exchange.source import read_source
 
-    path, _ = read_source(source, "try-on")   # read once: several readers parse it
-    garments = read_garments(path)
+    data, name = read_source(source, "try-on")   # read once: several readers parse it
+    garments = read_garments(data, label=name)
     rgb = []
     if garments:
-        images = embedded_images(path)
-        uses = panel_texture_images(path)
+        images = embedded_images(data, label=name)
+        uses = panel_texture_images(data, label=name)
         for gm in garments:
             rgb.append(garment_vertex_colours(
                 gm, [None if i is None else images.get(i) for i in uses.get(gm.name, [])]))
-    return Scene(body=read_body(path), motion=read_motion(path), garments=garments,
-                 garment_rgb=rgb)
+    return Scene(body=read_body(data, label=name), motion=read_motion(data, label=name),
+                 garments=garments, garment_rgb=rgb)

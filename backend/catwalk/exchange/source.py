@@ -65,12 +65,45 @@ def read_source(source, what: str = "input", *, max_bytes: int | None = None) ->
     return data, name
 
 
-def read_json(source, what: str = "input", *, max_bytes: int | None = None):
-    """``(parsed, name)`` of a JSON document given as a path, bytes or a file object."""
+MAX_JSON_BYTES = 64 << 20   # a JSON document catwalk reads (garments, markup, patterns)
+MAX_JSON_DEPTH = 64         # nesting: catwalk's documents need about ten levels
+
+
+def parse_json(data: bytes, name: str):
+    """The JSON document in ``data`` (UTF-8), nested at most :data:`MAX_JSON_DEPTH` deep;
+    anything else raises :class:`InputError` naming ``name``."""
     import json
 
-    data, name = read_source(source, what, max_bytes=max_bytes)
     try:
-        return json.loads(data.decode("utf-8")), name
+        doc = json.loads(data.decode("utf-8"))
+    except RecursionError:
+        raise InputError(f"{name}: not readable JSON (nested too deeply; at most "
+                         f"{MAX_JSON_DEPTH} levels are read)") from None
     except (UnicodeDecodeError, ValueError) as exc:
         raise InputError(f"{name}: not readable JSON ({exc})") from None
+    check_depth(doc, name)
+    return doc
+
+
+def check_depth(doc, name: str, limit: int = MAX_JSON_DEPTH) -> None:
+    """Refuse a parsed JSON document nested more than ``limit`` levels deep (its readers and
+    writers recurse)."""
+    todo = [(doc, 1)]
+    while todo:
+        node, depth = todo.pop()
+        if isinstance(node, dict):
+            children = node.values()
+        elif isinstance(node, (list, tuple)):
+            children = node
+        else:
+            continue
+        if depth > limit:
+            raise InputError(f"{name}: nested too deeply ({depth} levels or more; at most "
+                             f"{limit} are read)")
+        todo.extend((c, depth + 1) for c in children if isinstance(c, (dict, list, tuple)))
+
+
+def read_json(source, what: str = "input", *, max_bytes: int | None = MAX_JSON_BYTES):
+    """``(parsed, name)`` of a JSON document given as a path, bytes or a file object."""
+    data, name = read_source(source, what, max_bytes=max_bytes)
+    return parse_json(data, name), name

@@ -33,7 +33,15 @@ import pygltflib as g
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
 from catwalk.exchange.gltf import (
+    MAX_IMAGE_PIXELS,
     GlbBuilder,
+    Gltf,
+    GltfObject,
+    _catwalk_extras,
+    _index,
+    _is_int,
+    _numbers,
+    _quiet,
     _read_accessor,
     add_body,
     add_motion,
@@ -398,149 +406,248 @@ def tryon_bytes(body: Body, motion: Motion | None, garments: list[GarmentFrames]
 
 # ----------------------------------------------------------------------------- reading
 
-def _channel_of(gltf: g.GLTF2, node: int, path: str):
-    """The sampler animating ``path`` of ``node``, or None."""
-    for anim in gltf.animations or []:
-        for ch in anim.channels:
-            if ch.target.node == node and ch.target.path == path:
-                return anim.samplers[ch.sampler]
+def _channel_of(gltf: Gltf, node: int, channel: str, path: str = "glb"):
+    """The sampler animating ``channel`` (e.g. "weights") of ``node``, or None."""
+    for ai, anim in enumerate(gltf.animations or []):
+        for ch in anim.channels if isinstance(anim.channels, list) else []:
+            target = getattr(ch, "target", None)
+            if getattr(target, "node", None) == node and getattr(target, "path", None) == channel:
+                return anim.samplers[_index(anim.samplers, ch.sampler, path, f"animation {ai}",
+                                            "sampler")]
     return None
 
 
-def _chunk_frames(gltf: g.GLTF2, blob: bytes, mesh: g.Mesh, path: str, who: str):
-    """Per panel: (frames, points, 3) local positions of a chunk mesh (base + each target)."""
+def _chunk_frames(gltf: Gltf, blob: bytes, mesh: GltfObject, path: str, who: str,
+                  counts: list[int]):
+    """Per panel: (frames, points, 3) local positions of a chunk mesh (base + each target);
+    ``counts``: each panel's points (from the garment's first chunk)."""
     out = []
-    n = len(mesh.primitives[0].targets or [])
+    if len(mesh.primitives) != len(counts):
+        raise InputError(f"{path}: garment {who!r}: chunks have different panel counts")
+    targets = mesh.primitives[0].targets
+    n = len(targets) if isinstance(targets, list) else 0
     if n == 0:
         raise InputError(f"{path}: garment {who!r} has no morph targets")
-    for prim in mesh.primitives:
-        if len(prim.targets or []) != n:
+    for pi, prim in enumerate(mesh.primitives):
+        targets = prim.targets if isinstance(prim.targets, list) else []
+        if len(targets) != n:
             raise InputError(f"{path}: garment {who!r}: primitives have different morph "
                              "target counts")
-        base = _read_accessor(gltf, blob, prim.attributes.POSITION).astype(np.float64)
-        disp = np.stack([_read_accessor(gltf, blob, t["POSITION"]) for t in prim.targets])
-        out.append(base[None] + disp)
+        what = f"garment {who!r} panel {pi}"
+        base = _read_accessor(gltf, blob, prim.attributes.POSITION, path, f"{what} POSITION",
+                              width=3, kinds="f", count=counts[pi]).astype(np.float64)
+        disp = []
+        for k, t in enumerate(targets):
+            if not isinstance(t, dict) or "POSITION" not in t:
+                raise InputError(f"{path}: {what}: morph target {k} has no POSITION")
+            disp.append(_read_accessor(gltf, blob, t["POSITION"], path,
+                                       f"{what} target {k}", width=3, kinds="f",
+                                       count=counts[pi]))
+        frames = base[None] + np.stack(disp)
+        if not np.isfinite(frames).all():
+            raise InputError(f"{path}: {what}: positions must be finite")
+        out.append(frames)
     return out
 
 
-def _panels(gltf: g.GLTF2, blob: bytes, mesh: g.Mesh):
-    """Triangles, pattern coordinates, panel index, textures, colours and names of a chunk
-    mesh's primitives (the same in every chunk of a garment)."""
-    meta = mesh.extras["catwalk"]
+def _panels(gltf: Gltf, blob: bytes, mesh: GltfObject, path: str, who: str):
+    """Triangles, pattern coordinates, panel index, textures, colours, names and point counts
+    of a chunk mesh's primitives (the same in every chunk of a garment)."""
+    meta = _catwalk_extras(mesh, path, f"garment {who!r}")
     panels = meta.get("panels") or [{} for _ in mesh.primitives]
-    tri_parts, uv_parts, panel_parts, textures, colors, names = [], [], [], [], [], []
+    if not isinstance(panels, list):
+        raise InputError(f"{path}: garment {who!r}: panels must be a list")
+    tri_parts, uv_parts, panel_parts, textures, colors, names, counts = [], [], [], [], [], [], []
     offset = 0
     for pi, prim in enumerate(mesh.primitives):
+        what = f"garment {who!r} panel {pi}"
         pm = panels[pi] if pi < len(panels) else {}
-        n = gltf.accessors[prim.attributes.POSITION].count
-        tri = _read_accessor(gltf, blob, prim.indices).astype(np.int64).reshape(-1, 3)
-        tri_parts.append(tri + offset)
+        if not isinstance(pm, dict):
+            raise InputError(f"{path}: {what}: its description must be an object")
+        if prim.mode not in (None, g.TRIANGLES):
+            raise InputError(f"{path}: {what} is not made of triangles (mode {prim.mode!r})")
+        attrs = prim.attributes
+        if getattr(attrs, "POSITION", None) is None or prim.indices is None:
+            raise InputError(f"{path}: {what} needs POSITION and indices")
+        n = gltf.accessors[_index(gltf.accessors, attrs.POSITION, path, f"{what} POSITION",
+                                  "accessor")].count
+        if not _is_int(n) or n < 3:
+            raise InputError(f"{path}: {what}: {n!r} points: not a panel")
+        tri = _read_accessor(gltf, blob, prim.indices, path, f"{what} indices", width=1,
+                             kinds="iu").astype(np.int64)
+        if len(tri) == 0 or len(tri) % 3 or int(tri.max()) >= n:
+            raise InputError(f"{path}: {what}: indices must be whole triangles of its {n:,} "
+                             "points")
+        tri_parts.append(tri.reshape(-1, 3) + offset)
         tex = pm.get("texture")
-        size = (1.0, 1.0) if not tex else tuple(tex["size"])
-        pattern = prim.attributes.TEXCOORD_1
+        size = (1.0, 1.0)
+        if tex:
+            if not isinstance(tex, dict) or not isinstance(tex.get("image"), str):
+                raise InputError(f"{path}: {what}: texture must be {{\"image\", \"size\"}}")
+            size = tuple(_numbers(tex.get("size"), 2, path, f"{what} texture size"))
+            if min(size) <= 0:
+                raise InputError(f"{path}: {what}: texture size must be positive")
+        pattern = getattr(attrs, "TEXCOORD_1", None)
         if pattern is not None:
-            uv_parts.append(_read_accessor(gltf, blob, pattern).astype(np.float64))
+            uv = _read_accessor(gltf, blob, pattern, path, f"{what} TEXCOORD_1", width=2,
+                                kinds="f", count=n).astype(np.float64)
         else:
-            tc = _read_accessor(gltf, blob, prim.attributes.TEXCOORD_0).astype(np.float64)
-            uv_parts.append(np.stack([tc[:, 0] * size[0], -tc[:, 1] * size[1]], axis=1))
+            if getattr(attrs, "TEXCOORD_0", None) is None:
+                raise InputError(f"{path}: {what} has neither TEXCOORD_1 nor TEXCOORD_0")
+            tc = _read_accessor(gltf, blob, attrs.TEXCOORD_0, path, f"{what} TEXCOORD_0",
+                                width=2, kinds="f", count=n).astype(np.float64)
+            uv = np.stack([tc[:, 0] * size[0], -tc[:, 1] * size[1]], axis=1)
+        if not np.isfinite(uv).all():
+            raise InputError(f"{path}: {what}: texture coordinates must be finite")
+        uv_parts.append(uv)
         panel_parts.append(np.full(n, pi, dtype=np.int32))
         textures.append(None if not tex else (tex["image"], size))
-        colors.append(tuple(pm.get("color", (0.7, 0.7, 0.7, 1.0))))
-        names.append(pm.get("name", f"panel{pi}"))
+        color = pm.get("color", (0.7, 0.7, 0.7, 1.0))
+        if not isinstance(color, (list, tuple)) or len(color) not in (3, 4):
+            raise InputError(f"{path}: {what}: colour must be RGB(A) in 0..1")
+        color = _numbers(color, len(color), path, f"{what} colour")
+        if not all(0.0 <= c <= 1.0 for c in color):
+            raise InputError(f"{path}: {what}: colour must be RGB(A) in 0..1")
+        colors.append(tuple(color))
+        name = pm.get("name", f"panel{pi}")
+        names.append(name if isinstance(name, str) else f"panel{pi}")
+        counts.append(n)
         offset += n
     return (np.concatenate(tri_parts), np.concatenate(uv_parts),
-            np.concatenate(panel_parts), textures, colors, names)
+            np.concatenate(panel_parts), textures, colors, names, counts)
 
 
-def read_garments(path) -> list[GarmentFrames]:
+@_quiet
+def read_garments(path, *, label: str | None = None) -> list[GarmentFrames]:
     """The garments of a try-on .glb written by :func:`write_tryon`: each chunk's base +
     its targets, the chunks' frames joined. Points come back grouped by panel (in the order
     written); textures name the image file as it was written (the image itself is embedded
-    in the .glb)."""
-    gltf, blob = load_glb(path)
-    path = source_name(path, "try-on")
-    top = (gltf.extras or {}).get("catwalk") or {}
+    in the .glb). ``label`` names bytes in messages."""
+    gltf, blob = load_glb(path, label or "try-on")
+    path = label or source_name(path, "try-on")
+    top = _catwalk_extras(gltf, path, "the file's")
     if top.get("format") == FORMAT and top.get("version") != VERSION:
-        raise InputError(f"{path}: try-on format version {top.get('version')}; this catwalk "
+        raise InputError(f"{path}: try-on format version {top.get('version')!r}; this catwalk "
                          f"reads version {VERSION} (make the try-on again)")
     chunks: dict[str, list] = {}
     for ni, node in enumerate(gltf.nodes):
-        meta = ((gltf.meshes[node.mesh].extras or {}).get("catwalk") or {}
-                if node.mesh is not None else {})
+        if node.mesh is None:
+            continue
+        mi = _index(gltf.meshes, node.mesh, path, f"node {ni}", "mesh")
+        meta = _catwalk_extras(gltf.meshes[mi], path, f"mesh {mi}")
         if "garment" in meta:
-            chunks.setdefault(meta["garment"], []).append((int(meta.get("chunk", 0)), ni))
+            who, chunk = meta["garment"], meta.get("chunk", 0)
+            if not isinstance(who, str) or not who or not _is_int(chunk):
+                raise InputError(f"{path}: mesh {mi}: a garment chunk needs a garment name "
+                                 "and a chunk number")
+            if not isinstance(gltf.meshes[mi].primitives, list) or \
+                    not gltf.meshes[mi].primitives:
+                raise InputError(f"{path}: mesh {mi} (garment {who!r}) has no primitives")
+            chunks.setdefault(who, []).append((int(chunk), ni, mi))
     out = []
     for name, found in chunks.items():
         found.sort()
-        first_mesh = gltf.meshes[gltf.nodes[found[0][1]].mesh]
-        tri, uv, panel, textures, colors, names = _panels(gltf, blob, first_mesh)
+        tri, uv, panel, textures, colors, names, counts = _panels(
+            gltf, blob, gltf.meshes[found[0][2]], path, name)
         frames: dict[int, np.ndarray] = {}
         times: dict[int, float] = {}
-        for _, ni in found:
-            mesh = gltf.meshes[gltf.nodes[ni].mesh]
-            first = int(mesh.extras["catwalk"].get("first_frame", 0))
-            local = np.concatenate(_chunk_frames(gltf, blob, mesh, path, name), axis=1)
-            sampler = _channel_of(gltf, ni, "weights")
+        for _, ni, mi in found:
+            mesh = gltf.meshes[mi]
+            first = _catwalk_extras(mesh, path, f"mesh {mi}").get("first_frame", 0)
+            if not _is_int(first) or first < 0:
+                raise InputError(f"{path}: mesh {mi}: first_frame {first!r} is not a frame")
+            local = np.concatenate(_chunk_frames(gltf, blob, mesh, path, name, counts), axis=1)
+            sampler = _channel_of(gltf, ni, "weights", path)
             t = (np.zeros(1) if sampler is None else
-                 _read_accessor(gltf, blob, sampler.input).astype(np.float64))
+                 _read_accessor(gltf, blob, sampler.input, path, f"garment {name!r} times",
+                                width=1, kinds="f").astype(np.float64))
             if len(t) != len(local):
                 raise InputError(f"{path}: garment {name!r}: {len(local)} frames but "
                                  f"{len(t)} keys")
+            if not np.isfinite(t).all() or t.min() < 0 or np.any(np.diff(t) <= 0):
+                raise InputError(f"{path}: garment {name!r}: frame times must be finite, ≥ 0 "
+                                 "and increasing")
             for j in range(len(local)):
                 frames[first + j] = local[j]
                 times[first + j] = float(t[j])
         order = sorted(frames)
         if order != list(range(len(order))):
             raise InputError(f"{path}: garment {name!r}: its chunks leave frames out")
+        ts = np.array([times[i] for i in order])
+        if np.any(np.diff(ts) <= 0):
+            raise InputError(f"{path}: garment {name!r}: frame times must be increasing")
         out.append(GarmentFrames(name=name, triangles=tri, uv=uv, panel=panel,
                                  panel_names=names, textures=textures, colors=colors,
-                                 times=np.array([times[i] for i in order]),
-                                 positions=np.stack([frames[i] for i in order])))
+                                 times=ts, positions=np.stack([frames[i] for i in order])))
     return out
 
 
-def embedded_images(path) -> dict[int, np.ndarray]:
-    """Decoded embedded images of a .glb, by image index, as float RGB(A) arrays in 0..1."""
+def embedded_images(path, *, label: str | None = None) -> dict[int, np.ndarray]:
+    """Decoded embedded images of a .glb, by image index, as float RGB(A) arrays in 0..1
+    (at most :data:`~catwalk.exchange.gltf.MAX_IMAGE_PIXELS` pixels each)."""
     import io
+    import warnings
 
     from PIL import Image
 
-    gltf, blob = load_glb(path)
-    path = source_name(path, "try-on")
+    gltf, blob = load_glb(path, label or "try-on")
+    path = label or source_name(path, "try-on")
     out = {}
     for i, im in enumerate(gltf.images or []):
         if im.bufferView is None:
             continue
-        view = gltf.bufferViews[im.bufferView]
-        start = view.byteOffset or 0
-        data = blob[start:start + view.byteLength]
+        bv = _index(gltf.bufferViews, im.bufferView, path, f"image {i}", "bufferView")
+        view = gltf.bufferViews[bv]
+        start, length = view.byteOffset or 0, view.byteLength
+        if not (_is_int(start) and _is_int(length) and start >= 0 and length >= 0
+                and start + length <= len(blob)):
+            raise InputError(f"{path}: image {i}: bufferView {bv} does not lie inside the "
+                             "binary chunk")
+        data = blob[start:start + length]
         try:
-            pic = Image.open(io.BytesIO(data)).convert("RGBA")
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", Image.DecompressionBombWarning)
+                pic = Image.open(io.BytesIO(data))
+                w, h = pic.size
+                if w * h > MAX_IMAGE_PIXELS:
+                    raise InputError(f"{path}: image {i} is {w}×{h} pixels; at most "
+                                     f"{MAX_IMAGE_PIXELS:,} are read")
+                pic = pic.convert("RGBA")
+        except InputError:
+            raise
         except Exception as exc:   # PIL raises several kinds on bad data
-            raise InputError(f"{path}: image {i} cannot be decoded ({exc})") from exc
+            raise InputError(f"{path}: image {i} cannot be decoded ({exc})") from None
         out[i] = np.asarray(pic, dtype=np.float64) / 255.0
     return out
 
 
-def panel_texture_images(path) -> dict[str, list[int | None]]:
+def panel_texture_images(path, *, label: str | None = None) -> dict[str, list[int | None]]:
     """Per garment (by name), per panel: the index of the embedded image its material uses
     as base colour, or None."""
-    gltf, _ = load_glb(path)
+    gltf, _ = load_glb(path, label or "try-on")
+    path = label or source_name(path, "try-on")
     out = {}
-    for node in gltf.nodes:
+    for ni, node in enumerate(gltf.nodes):
         if node.mesh is None:
             continue
-        mesh = gltf.meshes[node.mesh]
-        meta = (mesh.extras or {}).get("catwalk") or {}
-        if "garment" not in meta or meta["garment"] in out:
+        mesh = gltf.meshes[_index(gltf.meshes, node.mesh, path, f"node {ni}", "mesh")]
+        meta = _catwalk_extras(mesh, path, f"node {ni} mesh")
+        who = meta.get("garment")
+        if not isinstance(who, str) or who in out:
             continue
         idx = []
-        for prim in mesh.primitives:
+        for pi, prim in enumerate(mesh.primitives if isinstance(mesh.primitives, list) else []):
             im = None
             if prim.material is not None:
-                pbr = gltf.materials[prim.material].pbrMetallicRoughness
-                if pbr is not None and pbr.baseColorTexture is not None:
-                    im = gltf.textures[pbr.baseColorTexture.index].source
+                what = f"garment {who!r} panel {pi}"
+                mat = gltf.materials[_index(gltf.materials, prim.material, path, what,
+                                            "material")]
+                pbr = mat.pbrMetallicRoughness
+                tex = getattr(pbr, "baseColorTexture", None) if pbr is not None else None
+                if tex is not None:
+                    t = gltf.textures[_index(gltf.textures, tex.index, path, what, "texture")]
+                    if t.source is not None:
+                        im = _index(gltf.images, t.source, path, f"{what} texture", "image")
             idx.append(im)
-        out[meta["garment"]] = idx
+        out[who] = idx
     return out

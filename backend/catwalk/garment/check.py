@@ -3,8 +3,12 @@
 :func:`check_garment` returns a :class:`Report` (errors, warnings, per-panel numbers);
 :func:`require_valid` raises :class:`catwalk.errors.InputError` listing every error.
 
-Checked, for every size: outlines closed (a stated segment ``end`` meets the next segment's
-start), no zero-length edges, not self-intersecting (flattened within 0.1 mm), positive area;
+Checked: the garment's type, sizes and panels (a garment built in code skips the reader);
+for every size: garment-sized (no panel more than :data:`MAX_PANEL_EXTENT` across, the
+largest at least :data:`MIN_GARMENT_EXTENT`, at most :data:`MAX_GARMENT_AREA` of fabric),
+outlines no more detailed than :data:`MAX_OUTLINE_POINTS` points, closed (a stated segment
+``end`` meets the next segment's start), no zero-length edges, not self-intersecting
+(flattened within 0.1 mm), positive area;
 fold edges straight; seam sides inside the outline, runs of one cut piece not overlapping, seam
 partners within 2 % of each other's length (or within the seam's declared ``ease``, for
 gathers and eased seams); every panel reachable from every other through
@@ -13,6 +17,7 @@ seams; fabric presets known (or custom fabrics complete); texture images present
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +25,7 @@ import numpy as np
 
 from catwalk.errors import InputError
 from catwalk.garment.geometry import (
+    crossing_work,
     flatten,
     polygon_area,
     polyline_length,
@@ -27,13 +33,25 @@ from catwalk.garment.geometry import (
     segment_lengths,
     self_crossings,
 )
-from catwalk.garment.model import Garment, Shape, side_vertices, unfold
+from catwalk.garment.model import GARMENT_TYPES, Garment, Shape, side_vertices, unfold
 
 SEAM_LENGTH_TOLERANCE = 0.02      # relative
 CLOSE_TOLERANCE = 1e-4            # metres: a stated end must meet the next start
 MIN_EDGE = 1e-5                   # metres
 CROSSING_TOLERANCE = 1e-4         # metres: flattening tolerance for the crossing test
 MIN_AREA = 1e-4                   # m² (1 cm²)
+# garment-sized: no panel wider or longer than this (a floor-length gown's panel is ≈ 1.7 m,
+# a full circle skirt ≈ 2.2 m across), the largest panel at least this, and no more fabric
+# than this in one size (the catalogue: 0.5–1.4 m²; a full-length circle skirt ≈ 4 m²)
+MAX_PANEL_EXTENT = 3.0            # metres
+MIN_GARMENT_EXTENT = 0.1          # metres
+MAX_GARMENT_AREA = 8.0            # m², every cut piece of one size (folds opened, copies)
+# detail: flattened points of one outline, and the crossing test's work (edge pairs tested,
+# geometry.crossing_work) for one outline and for the whole garment (the catalogue: ≤ 200
+# points and ≤ 800 pairs an outline; a 20,000-point circle is 80,000 pairs)
+MAX_OUTLINE_POINTS = 20_000
+MAX_OUTLINE_WORK = 2_000_000
+MAX_CROSSING_WORK = 10_000_000
 # the landmarks catwalk.body.measure finds (bust, underbust, waist, hips: centres of the torso
 # sections at those heights), and the aliases catwalk.garment.place accepts
 KNOWN_LANDMARKS = (
@@ -65,28 +83,84 @@ def resolve_fabric(spec, where: str = "fabric"):
     """A :class:`catwalk.cloth.fabrics.Fabric` from a preset name or a custom fabric object
     (``{"base": "denim", "density": 0.3}`` overrides a preset; otherwise every field of
     ``Fabric`` is given)."""
+    import dataclasses
+
     from catwalk.cloth.fabrics import Fabric, get_fabric
     from catwalk.errors import CatwalkError
 
+    if isinstance(spec, dict):
+        fields = {f.name: f.type for f in dataclasses.fields(Fabric)}
+        for key, value in spec.items():
+            if key == "base":
+                if not isinstance(value, str):
+                    raise InputError(f"{where}: base must be a fabric preset name, got "
+                                     f"{value!r:.60}")
+            elif key not in fields:
+                raise InputError(f"{where}: unknown fabric property {key!r:.60} (known: base, "
+                                 f"{', '.join(fields)})")
+            elif fields[key] in ("str", str):
+                if not isinstance(value, str):
+                    raise InputError(f"{where}: {key} must be a string, got {value!r:.60}")
+            elif isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                raise InputError(f"{where}: {key} must be a number, got {value!r:.60}")
     try:
         if isinstance(spec, str):
             return get_fabric(spec)
         if isinstance(spec, dict):
             spec = dict(spec)
             if "base" in spec:
-                base = get_fabric(str(spec.pop("base")))
+                base = get_fabric(spec.pop("base"))
                 return base.with_(**spec)
             return Fabric(**spec).validate()
     except TypeError as exc:
         raise InputError(f"{where}: not a usable custom fabric ({exc})") from None
     except CatwalkError as exc:
         raise InputError(f"{where}: {exc}") from None
-    raise InputError(f"{where}: a fabric is a preset name or an object, got {spec!r}")
+    raise InputError(f"{where}: a fabric is a preset name or an object, got {spec!r:.80}")
+
+
+def _extent(shape: Shape) -> float:
+    """Width or height (the larger) of everything that shapes the outline: its vertices and
+    control points (inf when any is not finite)."""
+    pts = np.array([p for s in shape.outline for p in (s.start, *s.controls)], dtype=float)
+    if not np.all(np.isfinite(pts)):
+        return math.inf
+    return float(np.ptp(pts, axis=0).max())
+
+
+def _points(shape: Shape) -> int:
+    """How many points flattening the outline for the crossing test makes."""
+    segs = shape.outline
+    return sum(s.pieces(segs[(i + 1) % len(segs)].start, CROSSING_TOLERANCE)
+               for i, s in enumerate(segs))
+
+
+def _check_size(shape: Shape, where: str, errors: list[str]) -> bool:
+    """Garment-sized and not too detailed to check: False (and an error) if not."""
+    ext = _extent(shape)
+    if not ext <= MAX_PANEL_EXTENT:
+        size = "has coordinates that are not finite" if not math.isfinite(ext) else \
+            f"is {ext:.4g} m across (at most {MAX_PANEL_EXTENT:g} m)"
+        errors.append(f"{where}: the panel {size}: not garment-sized (a pattern is in metres)")
+        return False
+    n = _points(shape)
+    if n > MAX_OUTLINE_POINTS:
+        errors.append(f"{where}: the outline flattens to {n:,} points (at most "
+                      f"{MAX_OUTLINE_POINTS:,}): too detailed")
+        return False
+    return True
+
+
+def _work(shape: Shape) -> int:
+    return crossing_work(flatten(shape.outline, CROSSING_TOLERANCE).points)
 
 
 def _check_shape(shape: Shape, where: str, errors: list[str]) -> dict | None:
     segs = shape.outline
     n = len(segs)
+    if not _check_size(shape, where, errors):
+        return None
     for i, s in enumerate(segs):
         nxt = segs[(i + 1) % n].start
         if s.declared_end is not None and np.linalg.norm(s.declared_end - nxt) > CLOSE_TOLERANCE:
@@ -118,6 +192,8 @@ def _check_shape(shape: Shape, where: str, errors: list[str]) -> dict | None:
 def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
     rep = Report(g.name)
     err, warn = rep.errors, rep.warnings
+    if not _check_garment_fields(g, err):
+        return rep
     base = Path(base_dir) if base_dir else (g.path.parent if g.path else Path("."))
     # fabric and textures
     try:
@@ -132,10 +208,16 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                 err.append(str(exc))
         if p.texture is not None:
             img = base / str(p.texture["image"])
-            if not img.is_file():
+            try:
+                found = img.is_file()
+            except OSError as exc:   # a name too long for the file system, …
+                err.append(f"panel {p.name!r}: texture image {str(p.texture['image'])[:80]!r} "
+                           f"cannot be looked for ({exc.strerror or exc})")
+                found = None
+            if found is False:
                 err.append(f"panel {p.name!r}: texture image {p.texture['image']!r} not found "
                            f"(looked for {img})")
-            else:
+            elif found:
                 try:
                     from PIL import Image
                     with Image.open(img) as im:
@@ -152,6 +234,8 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                         f"the torso)")
     # geometry per size
     n_before = len(err)
+    if not _check_sizes(g, err):
+        return rep
     stats: dict[tuple[str, str], dict] = {}
     for size in g.sizes:
         for p in g.panels:
@@ -160,6 +244,8 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
             where = f"panel {p.name!r} (size {size})"
             shape = p.shapes[size]
             st = _check_shape(shape, where, err)
+            if st is None:
+                continue
             stats[(size, p.name)] = st
             n = len(shape.outline)
             if p.fold is not None:
@@ -192,9 +278,74 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                                "fold": p.fold is not None, "copy_of": p.copy_of})
     if len(err) > n_before:
         return rep   # seams need sound outlines
+    for size in g.sizes:
+        fabric = sum(r["area_m2"] * (2 if r["fold"] else 1) for r in rep.panels
+                     if r["size"] == size)
+        if fabric > MAX_GARMENT_AREA:
+            err.append(f"size {size}: the panels add up to {fabric:.3g} m² of fabric (at most "
+                       f"{MAX_GARMENT_AREA:g} m²): not garment-sized")
+    if len(err) > n_before:
+        return rep
     _check_seams(g, rep)
     _check_reachable(g, rep)
     return rep
+
+
+def _check_garment_fields(g: Garment, err: list[str]) -> bool:
+    """What the garment format's reader checks, for garments built in code: the type, sizes,
+    panels and their shapes. False (with errors) if the garment cannot be checked further."""
+    n = len(err)
+    if g.type not in GARMENT_TYPES:
+        err.append(f"garment type {g.type!r} is not one of {', '.join(GARMENT_TYPES)}")
+    if not g.sizes or not all(isinstance(s, str) and s.strip() for s in g.sizes) \
+            or len(set(g.sizes)) != len(g.sizes):
+        err.append(f"sizes {g.sizes!r}: a garment needs distinct, non-empty size names")
+    if not g.panels:
+        err.append("the garment has no panels")
+    names = [p.name for p in g.panels]
+    if not all(isinstance(x, str) and x.strip() for x in names) or len(set(names)) != len(names):
+        err.append(f"panel names {names!r}: each panel needs its own non-empty name")
+    for p in g.panels:
+        if p.copy_of is None:
+            missing = [s for s in g.sizes if s not in p.shapes]
+            if missing:
+                err.append(f"panel {p.name!r}: no outline for size(s) {', '.join(missing)}")
+        elif p.copy_of not in names:
+            err.append(f"panel {p.name!r}: copy_of names no panel ({p.copy_of!r})")
+    for i, s in enumerate(g.seams):
+        for side in (s.a, s.b):
+            if side.panel not in names:
+                err.append(f"{s.label(i)}: no panel named {side.panel!r}")
+    return len(err) == n
+
+
+def _check_sizes(g: Garment, err: list[str]) -> bool:
+    """Every outline garment-sized and not too detailed, and the whole garment checkable in
+    reasonable time; the largest panel of each size at least MIN_GARMENT_EXTENT across."""
+    n = len(err)
+    work = 0
+    for size in g.sizes:
+        largest = 0.0
+        for p in g.panels:
+            if p.copy_of is not None:
+                continue
+            shape = p.shapes[size]
+            where = f"panel {p.name!r} (size {size})"
+            if _check_size(shape, where, err):
+                largest = max(largest, _extent(shape))
+                w = _work(shape)
+                if w > MAX_OUTLINE_WORK:
+                    err.append(f"{where}: the outline is too convoluted to check ({w:,} edge "
+                               f"pairs to test; at most {MAX_OUTLINE_WORK:,})")
+                work += w
+        if len(err) == n and largest < MIN_GARMENT_EXTENT:
+            err.append(f"size {size}: the largest panel is {largest * 100:.3g} cm across (at "
+                       f"least {MIN_GARMENT_EXTENT * 100:g} cm): not garment-sized (a pattern "
+                       "is in metres)")
+    if len(err) == n and work > MAX_CROSSING_WORK:
+        err.append(f"the outlines are too detailed to check ({work:,} edge pairs to test; at "
+                   f"most {MAX_CROSSING_WORK:,})")
+    return len(err) == n
 
 
 def _check_seams(g: Garment, rep: Report) -> None:

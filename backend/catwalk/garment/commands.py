@@ -42,10 +42,24 @@ def _check(args) -> int:
     return 0
 
 
+def _output(out: str, suffix: str, what: str) -> None:
+    """Refuse, before reading any input, an output with the wrong extension or a place it
+    cannot be written."""
+    from catwalk.fileio import check_writable
+
+    if not str(out).lower().endswith(suffix):
+        raise InputError(f"-o {out}: {what} is written as a {suffix} file")
+    check_writable(out, "-o")
+
+
 def _write(g, out: str, strict: bool) -> None:
-    from catwalk.exchange.garment_json import save_garment
+    from catwalk.exchange.garment_json import garment_from_dict, garment_to_dict, save_garment
     from catwalk.garment.check import check_garment, require_valid
 
+    try:   # what is written must read back: the format's reader has the last word
+        garment_from_dict(garment_to_dict(g), name=f"garment {g.name!r}")
+    except InputError as exc:
+        raise InputError(f"-o {out}: not written: {exc}") from None
     if strict:
         require_valid(g, Path(out).parent)
     else:
@@ -57,15 +71,14 @@ def _write(g, out: str, strict: bool) -> None:
         if rep.errors:
             print("note: no seams yet (give --markup); `catwalk garment check` will ask for "
                   "them", file=sys.stderr)
-    save_garment(g, out)
+    save_garment(g, out, "-o")
 
 
 def _import(args) -> int:
     from catwalk.exchange.dxf import pieces_to_garment, read_dxf
     from catwalk.exchange.markup import apply_markup, load_markup
 
-    if not args.output.lower().endswith(".json"):
-        raise InputError(f"-o {args.output}: the garment is written as a .json file")
+    _output(args.output, ".json", "the garment")
     markup = load_markup(args.markup) if args.markup else None
     pieces, warnings = read_dxf(args.file, size=args.size, units=args.units)
     for w in warnings:
@@ -91,8 +104,7 @@ def _from_garmentcode(args) -> int:
     from catwalk.exchange.garmentcode import load_garmentcode
     from catwalk.exchange.markup import apply_markup, load_markup
 
-    if not args.output.lower().endswith(".json"):
-        raise InputError(f"-o {args.output}: the garment is written as a .json file")
+    _output(args.output, ".json", "the garment")
     g = load_garmentcode(args.file, name=args.name, garment_type=args.type, size=args.size)
     if args.markup:
         apply_markup(g, load_markup(args.markup), str(args.markup))
@@ -109,8 +121,9 @@ def _from_freesewing(args) -> int:
     if args.describe:
         print(describe(g, args.size))
         return 0
-    if not args.output or not args.output.lower().endswith(".json"):
+    if not args.output:
         raise InputError("-o: the garment is written as a .json file")
+    _output(args.output, ".json", "the garment")
     if args.markup:
         apply_markup(g, load_markup(args.markup), str(args.markup))
     _write(g, args.output, strict=bool(args.markup))
@@ -123,8 +136,7 @@ def _edit(args) -> int:
     from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.edit import edit
 
-    if not args.output.lower().endswith(".json"):
-        raise InputError(f"-o {args.output}: the garment is written as a .json file")
+    _output(args.output, ".json", "the garment")
     g = load_garment(args.file)
     edit(g, args.panel, move=args.move, rotate=args.rotate, mirror=args.mirror,
          ptype=args.type, texture=args.texture, texture_size=args.texture_size,
@@ -174,8 +186,7 @@ def _export_dxf(args) -> int:
     from catwalk.exchange.dxf import write_dxf
     from catwalk.exchange.garment_json import load_garment
 
-    if not args.output.lower().endswith(".dxf"):
-        raise InputError(f"-o {args.output}: the pattern is written as a .dxf file")
+    _output(args.output, ".dxf", "the pattern")
     g = load_garment(args.file)
     n = write_dxf(g, args.output, style=args.style, units=args.units)
     print(f"wrote {args.output}: {n} blocks ({args.style} style, {args.units})", file=sys.stderr)

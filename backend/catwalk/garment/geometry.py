@@ -176,10 +176,36 @@ def run_length(lengths: np.ndarray, start: int, end: int) -> float:
     return float(lengths[idx].sum())
 
 
-def self_crossings(points: np.ndarray, eps: float = 1e-9, limit: int = 5) -> list[tuple]:
-    """Pairs (i, j, point) of non-adjacent edges of the closed polyline that touch or cross.
+def _x_candidates(lo: np.ndarray, hi: np.ndarray, tol: float):
+    """For each edge i: (order, left, right) such that the edges ``order[left[i]:right[i]]``
+    are those whose x range starts within edge i's (widened by ``tol``). Every pair of edges
+    whose x ranges overlap is among them, found from the edge whose range starts first."""
+    order = np.argsort(lo[:, 0], kind="stable")
+    starts = lo[order, 0]
+    left = np.searchsorted(starts, lo[:, 0] - tol, side="left")
+    right = np.searchsorted(starts, hi[:, 0] + tol, side="right")
+    return order, left, right
 
-    Edge k joins points k and k+1 (mod M). Vectorised over blocks of edges."""
+
+def crossing_work(points: np.ndarray, eps: float = 1e-9) -> int:
+    """How many edge pairs :func:`self_crossings` tests exactly (its cost, known cheaply)."""
+    p = np.asarray(points, dtype=float)
+    if len(p) < 4:
+        return 0
+    b = np.roll(p, -1, axis=0)
+    lo, hi = np.minimum(p, b), np.maximum(p, b)
+    tol = eps * max(float(np.ptp(p, axis=0).max()), 1e-12)
+    _, left, right = _x_candidates(lo, hi, tol)
+    return int(np.sum(right - left))
+
+
+def self_crossings(points: np.ndarray, eps: float = 1e-9, limit: int = 5) -> list[tuple]:
+    """Pairs (i, j, point) of non-adjacent edges of the closed polyline that touch or cross,
+    the first ``limit`` in (i, j) order (i < j).
+
+    Edge k joins points k and k+1 (mod M). Candidates come from a sweep over the edges' x
+    ranges (sorted), so an outline costs about M log M rather than M²; they are tested in
+    vectorised blocks."""
     p = np.asarray(points, dtype=float)
     m = len(p)
     if m < 4:
@@ -190,38 +216,53 @@ def self_crossings(points: np.ndarray, eps: float = 1e-9, limit: int = 5) -> lis
     hi = np.maximum(a, b)
     scale = max(float(np.ptp(p, axis=0).max()), 1e-12)
     tol = eps * scale
-    found = []
-    block = max(1, min(m, 2_000_000 // m))
-    for s in range(0, m, block):
-        i = np.arange(s, min(m, s + block))
-        # bounding boxes first
-        ov = ((lo[i, None, 0] <= hi[None, :, 0] + tol) & (lo[None, :, 0] <= hi[i, None, 0] + tol)
-              & (lo[i, None, 1] <= hi[None, :, 1] + tol) & (lo[None, :, 1] <= hi[i, None, 1] + tol))
-        j_all = np.arange(m)[None, :]
-        adjacent = ((j_all == i[:, None]) | (j_all == (i[:, None] + 1) % m)
-                    | (j_all == (i[:, None] - 1) % m))
-        ov &= ~adjacent
-        ov &= j_all > i[:, None]
-        ii, jj = np.nonzero(ov)
-        if len(ii) == 0:
+    order, left, right = _x_candidates(lo, hi, tol)
+    counts = right - left
+    best = np.zeros(0, dtype=np.int64)   # the smallest hit keys i·m + j so far (≤ limit)
+    edges = np.arange(m)
+    start = 0
+    while start < m:   # blocks of edges with at most ~2M candidate pairs each
+        cum = np.cumsum(counts[start:])
+        stop = start + max(1, int(np.searchsorted(cum, 2_000_000, side="right")))
+        blk = edges[start:stop]
+        n = counts[blk]
+        src = np.repeat(blk, n)
+        offs = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        dst = order[np.repeat(left[blk], n) + offs]
+        start = stop
+        i, j = np.minimum(src, dst), np.maximum(src, dst)
+        keep = (j > i) & (j != (i + 1) % m) & (i != (j + 1) % m)
+        i, j = i[keep], j[keep]
+        ov = ((lo[i, 0] <= hi[j, 0] + tol) & (lo[j, 0] <= hi[i, 0] + tol)
+              & (lo[i, 1] <= hi[j, 1] + tol) & (lo[j, 1] <= hi[i, 1] + tol))
+        i, j = i[ov], j[ov]
+        if len(i) == 0:
             continue
-        ii = i[ii]
-        a1, b1, a2, b2 = a[ii], b[ii], a[jj], b[jj]
-        o1 = _orient(a1, b1, a2)
-        o2 = _orient(a1, b1, b2)
-        o3 = _orient(a2, b2, a1)
-        o4 = _orient(a2, b2, b1)
-        l1 = np.linalg.norm(b1 - a1, axis=1) * tol
-        l2 = np.linalg.norm(b2 - a2, axis=1) * tol
-        hit = (o1 * o2 <= (l1 ** 2)) & (o3 * o4 <= (l2 ** 2))
-        # both on the same line but apart: bounding boxes overlap already, so they touch
-        for k in np.nonzero(hit)[0][: max(0, limit - len(found))]:
-            den = o3[k] - o4[k]
-            t = o3[k] / den if abs(den) > 1e-300 else 0.0
-            found.append((int(ii[k]), int(jj[k]), a1[k] + t * (b1[k] - a1[k])))
-        if len(found) >= limit:
-            break
-    return found
+        hit = _touch(a[i], b[i], a[j], b[j], tol)
+        keys = np.unique(np.concatenate([best, i[hit].astype(np.int64) * m + j[hit]]))
+        best = keys[:limit]
+    out = []
+    for key in best:
+        i, j = divmod(int(key), m)
+        a1, b1 = a[i], b[i]
+        o3 = _orient(a[[j]], b[[j]], a1[None])[0]
+        o4 = _orient(a[[j]], b[[j]], b1[None])[0]
+        den = o3 - o4
+        t = o3 / den if abs(den) > 1e-300 else 0.0
+        out.append((i, j, a1 + t * (b1 - a1)))
+    return out
+
+
+def _touch(a1, b1, a2, b2, tol: float) -> np.ndarray:
+    """Whether segments a1–b1 and a2–b2 (whose boxes overlap) touch or cross; collinear
+    segments whose boxes overlap touch."""
+    o1 = _orient(a1, b1, a2)
+    o2 = _orient(a1, b1, b2)
+    o3 = _orient(a2, b2, a1)
+    o4 = _orient(a2, b2, b1)
+    l1 = np.linalg.norm(b1 - a1, axis=1) * tol
+    l2 = np.linalg.norm(b2 - a2, axis=1) * tol
+    return (o1 * o2 <= (l1 ** 2)) & (o3 * o4 <= (l2 ** 2))
 
 
 def _orient(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ import os
 import random
 import time
 
-from locust import HttpUser, between, events, task
+from locust import FastHttpUser, between, events, task
 
 BODY = {"sex": "female", "height": 1.68, "bust": 0.90, "waist": 0.72, "hips": 0.98}
 STATE: dict = {"garments": [], "body": None, "done": None, "asked": [], "started": None}
@@ -72,7 +72,10 @@ def _summarise(environment, **_):
                               for e in list(stats.errors.values())[:10]]}, fh)
 
 
-class Shopper(HttpUser):
+class Shopper(FastHttpUser):
+    # FastHttpUser (geventhttpclient): several times less CPU a request than HttpUser (Locust's
+    # documentation), so that on a small machine the load generator takes less of the cores
+    # the service is measured on
     wait_time = between(0.05, 0.2)
 
     def _garment(self) -> str:

@@ -2,13 +2,23 @@
 
 Several ``--time`` values and/or ``--view`` values make one contact sheet: one row per view,
 one column per time, the camera fixed over the whole walk so the motion reads across a row.
+The image is PNG or JPEG by the output's extension. Limits (a frame is rendered 2×
+supersampled, ~400 bytes of memory per pixel): a frame at most :data:`MAX_FRAME_PIXELS`, a
+sheet at most :data:`MAX_SHEET_PIXELS` and :data:`MAX_CELLS` frames.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from catwalk.errors import InputError
+
+MAX_SIDE = 8192
+MAX_FRAME_PIXELS = 4096 * 4096     # ~6.5 GB while rendering it
+MAX_SHEET_PIXELS = 8192 * 4096     # the whole contact sheet
+MAX_CELLS = 64                     # frames in one contact sheet
 
 
 def _size(text: str) -> tuple[int, int]:
@@ -16,9 +26,25 @@ def _size(text: str) -> tuple[int, int]:
         w, h = (int(x) for x in text.lower().split("x"))
     except ValueError:
         raise InputError(f"--size must be WIDTHxHEIGHT, e.g. 512x768, not {text!r}") from None
-    if not (16 <= w <= 8192 and 16 <= h <= 8192):
-        raise InputError(f"--size {text} out of range 16..8192")
+    if not (16 <= w <= MAX_SIDE and 16 <= h <= MAX_SIDE):
+        raise InputError(f"--size {text} out of range 16..{MAX_SIDE}")
+    if w * h > MAX_FRAME_PIXELS:
+        raise InputError(f"--size {text}: {w * h:,} pixels; a frame has at most "
+                         f"{MAX_FRAME_PIXELS:,} (e.g. 4096x4096)")
     return w, h
+
+
+def _sheet(times, views, size) -> None:
+    """Refuse a contact sheet too large to make."""
+    cells = len(times) * len(views)
+    pixels = cells * size[0] * size[1]
+    if cells > MAX_CELLS:
+        raise InputError(f"--time × --view: {len(times)} × {len(views)} = {cells} frames; a "
+                         f"contact sheet has at most {MAX_CELLS}")
+    if pixels > MAX_SHEET_PIXELS:
+        raise InputError(f"--time × --view × --size: a {len(times) * size[0]}×"
+                         f"{len(views) * size[1]} contact sheet, {pixels:,} pixels; at most "
+                         f"{MAX_SHEET_PIXELS:,} (fewer frames or a smaller --size)")
 
 
 def render_sheet(scene, times, views, size, cancel=None) -> np.ndarray:
@@ -56,18 +82,29 @@ def render_sheet(scene, times, views, size, cancel=None) -> np.ndarray:
 
 def _render(args) -> int:
     from catwalk.exchange.scene import load_scene
-    from catwalk.render.preview import save_png
+    from catwalk.fileio import check_writable
+    from catwalk.render.preview import image_format, save_image
+    from catwalk.render.raster import view_yaw
 
     for t in args.time:
-        if t < 0:
-            raise InputError(f"--time must be ≥ 0, not {t}")
+        if not math.isfinite(t) or t < 0:
+            raise InputError(f"--time must be a number of seconds ≥ 0, not {t}")
+    for v in args.view:
+        try:
+            view_yaw(v)
+        except InputError as exc:
+            raise InputError(f"--view: {exc}") from None
+    size = _size(args.size)
+    _sheet(args.time, args.view, size)
+    image_format(args.output)
+    check_writable(args.output, "-o")
     scene = load_scene(args.file)
     for t in args.time:
         if scene.animated and t > scene.duration + 1e-9:
             raise InputError(f"--time {t} is past the end of the animation "
                              f"({scene.duration:.3f} s)")
-    image = render_sheet(scene, args.time, args.view, _size(args.size))
-    save_png(image, args.output)
+    image = render_sheet(scene, args.time, args.view, size)
+    save_image(image, args.output, "-o")
     print(args.output)
     return 0
 
@@ -111,12 +148,15 @@ def register(top, groups) -> None:
     b.add_argument("--json", action="store_true", help="print JSON")
     b.set_defaults(func=_bench)
 
-    p = top.add_parser("render", help="render frames of a .glb to PNG (CPU)")
+    p = top.add_parser("render", help="render frames of a .glb to PNG or JPEG (CPU)")
     p.add_argument("file", help="a .glb written by catwalk")
     p.add_argument("--time", type=float, nargs="+", default=[0.0],
                    help="seconds into the animation (several: a contact sheet)")
     p.add_argument("--view", nargs="+", default=["front"],
                    help="front, side, back, right or a yaw in degrees (several: one row each)")
-    p.add_argument("--size", default="512x768", help="WIDTHxHEIGHT of one frame, pixels")
-    p.add_argument("-o", "--output", required=True, help="PNG to write")
+    p.add_argument("--size", default="512x768",
+                   help=f"WIDTHxHEIGHT of one frame, pixels (at most {MAX_FRAME_PIXELS:,}; a "
+                        f"contact sheet at most {MAX_SHEET_PIXELS:,} and {MAX_CELLS} frames)")
+    p.add_argument("-o", "--output", required=True,
+                   help="the image to write: .png, or .jpg / .jpeg for JPEG")
     p.set_defaults(func=_render)

@@ -193,14 +193,48 @@ def render_meshes(meshes, view="front", size=(512, 768), *, margin=0.06, floor=T
     return out
 
 
-def save_png(image, path) -> None:
-    """Write an ``(H, W, 3)`` or ``(H, W)`` uint8 image as PNG, atomically."""
+IMAGE_FORMATS = {".png": "PNG", ".jpg": "JPEG", ".jpeg": "JPEG"}
+
+
+def image_format(path, flag: str = "-o") -> str:
+    """The image format (PNG or JPEG) a file name asks for by its extension; anything else
+    raises :class:`InputError` naming ``flag``."""
+    fmt = IMAGE_FORMATS.get(os.path.splitext(str(path))[1].lower())
+    if fmt is None:
+        raise InputError(f"{flag} {path}: images are written as .png, .jpg or .jpeg")
+    return fmt
+
+
+def save_image(image, path, flag: str | None = None) -> None:
+    """Write an ``(H, W, 3)`` or ``(H, W)`` uint8 image, atomically, as PNG or JPEG by the
+    file's extension (:func:`image_format`)."""
+    fmt = image_format(path, flag or "image")
+    if fmt == "PNG":
+        save_png(image, path, flag)
+        return
     from PIL import Image
 
+    a = _image_array(image)
+    with atomic_path(path, flag) as tmp:
+        Image.fromarray(a[..., :3] if a.ndim == 3 else a).save(tmp, format="JPEG", quality=92)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+
+
+def _image_array(image) -> np.ndarray:
     a = np.asarray(image)
     if a.dtype != np.uint8 or a.ndim not in (2, 3) or (a.ndim == 3 and a.shape[2] not in (3, 4)):
         raise InputError(f"image must be uint8 (H, W[, 3|4]), got {a.dtype} {a.shape}")
-    with atomic_path(path) as tmp:
+    return a
+
+
+def save_png(image, path, flag: str | None = None) -> None:
+    """Write an ``(H, W, 3)`` or ``(H, W)`` uint8 image as PNG, atomically."""
+    from PIL import Image
+
+    a = _image_array(image)
+    with atomic_path(path, flag) as tmp:
         Image.fromarray(a).save(tmp, format="PNG")
         # the temporary file is created 0600; give the image the usual permissions
         umask = os.umask(0)

@@ -296,16 +296,16 @@ def to_screen(matrix, points) -> np.ndarray:
 
 def view_yaw(view) -> float:
     """Yaw in degrees of a named view (front, side/left, back, right) or a number."""
-    if isinstance(view, str):
-        if view in NAMED_VIEWS:
-            return NAMED_VIEWS[view]
-        try:
-            return float(view)
-        except ValueError:
-            raise InputError(
-                f"unknown view {view!r}: use front, side, back, right or a yaw in degrees"
-            ) from None
-    return float(view)
+    if isinstance(view, str) and view in NAMED_VIEWS:
+        return NAMED_VIEWS[view]
+    try:
+        yaw = float(view)
+    except (TypeError, ValueError):
+        yaw = math.nan
+    if not math.isfinite(yaw):
+        raise InputError(f"unknown view {view!r}: use front, side, back, right or a yaw in "
+                         "degrees")
+    return yaw
 
 
 def camera_axes(yaw_deg: float):

@@ -9,7 +9,8 @@ processes seen in the last 30 s (``catwalk_workers_alive``, ``catwalk_worker_slo
 the seconds of each stage of the try-ons that ended since the last scrape
 (``catwalk_tryon_stage_seconds{stage}``, ``catwalk_tryon_seconds{status}``: histograms; a job's
 stage timings are written by its worker). With several API processes, scrape one of them for
-the histograms (each observes every job).
+the histograms (each observes every job). And this API process's own CPU seconds, memory and
+open files (``process_*``, prometheus-client's process collector).
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from __future__ import annotations
 import threading
 from datetime import timedelta
 
-from prometheus_client import CollectorRegistry, Counter, Histogram
+from prometheus_client import CollectorRegistry, Counter, Histogram, ProcessCollector
 from prometheus_client.core import GaugeMetricFamily
 from sqlalchemy import func, select
 
@@ -87,6 +88,7 @@ class Metrics:
         self.total = Histogram("catwalk_tryon_seconds", "Seconds a try-on ran, by how it ended",
                                ["status"], buckets=STAGE_BUCKETS, registry=self.registry)
         self.registry.register(JobsCollector(config))
+        ProcessCollector(registry=self.registry)   # this process's CPU seconds, memory, files
         self._seen_until = utcnow()
         self._lock = threading.Lock()
 

@@ -90,6 +90,25 @@ class Beat(threading.Thread):
         self.join(timeout=5)
 
 
+def _recorded(write, config: Config, job_id: str, *args):
+    """``write(config, job_id, *args)`` (a job's end written to the database), tried again
+    while the database cannot be reached, for up to ``job_stale_s``: a job done during a short
+    outage is recorded by its own attempt (past that, it looks dead and recovery runs it
+    again, which finds its result stored)."""
+    from sqlalchemy.exc import InterfaceError, OperationalError
+
+    deadline = time.monotonic() + config.job_stale_s
+    while True:
+        try:
+            return write(config, job_id, *args)
+        except (OperationalError, InterfaceError) as exc:
+            if time.monotonic() >= deadline:
+                raise
+            log.warning(json.dumps({"event": "database_away", "job": job_id,
+                                    "error": type(exc).__name__}))
+            time.sleep(0.5)
+
+
 def register_tasks(app, config: Config) -> None:
     from catwalk.service.queue import TASK
 
@@ -112,14 +131,14 @@ def run_job(config: Config, job_id: str) -> str:
     try:
         outcome = _execute(config, row, beat)
     except Cancelled:
-        jobs.end(config, job_id, row.attempts, "cancelled", "cancelled", beat.lap())
+        _recorded(jobs.end, config, job_id, row.attempts, "cancelled", "cancelled", beat.lap())
         outcome = "cancelled"
     except (InputError, SimulationError) as exc:
-        jobs.end(config, job_id, row.attempts, "failed", str(exc), beat.lap())
+        _recorded(jobs.end, config, job_id, row.attempts, "failed", str(exc), beat.lap())
         outcome = "failed"
     except CatwalkError as exc:
-        jobs.end(config, job_id, row.attempts, "failed", f"the service could not run it: {exc}",
-                 beat.lap())
+        _recorded(jobs.end, config, job_id, row.attempts, "failed",
+                  f"the service could not run it: {exc}", beat.lap())
         outcome = "failed"
     except Exception as exc:
         from celery.exceptions import SoftTimeLimitExceeded
@@ -130,7 +149,7 @@ def run_job(config: Config, job_id: str) -> str:
             log.error(json.dumps({"event": "crashed", "job": job_id,
                                   "trace": traceback.format_exc()[-4000:]}))
             reason = f"internal error ({type(exc).__name__}); the job was not finished"
-        jobs.end(config, job_id, row.attempts, "failed", reason, beat.lap())
+        _recorded(jobs.end, config, job_id, row.attempts, "failed", reason, beat.lap())
         outcome = "failed"
     finally:
         beat.finish()
@@ -184,7 +203,8 @@ def _execute(config: Config, row, beat: Beat) -> str:
         raise SetupError(f"the result could not be stored: {exc.strerror or exc}") from None
     sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
              "web_sha256": sha256(web)}
-    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes, beat.lap()):
+    if not _recorded(jobs.finish, config, row.id, row.attempts, row.key, metrics, sizes,
+                     beat.lap()):
         # cancelled, deleted (its body too) or taken over meanwhile
         if stored and jobs.result(config, row.key) is None and \
                 not jobs.result_in_use(config, row.key):
@@ -213,7 +233,8 @@ def _finish_stored(config: Config, row, storage: Storage, beat: Beat) -> str:
     metrics = json.loads(storage.result_file(row.key, "metrics.json").read_text())
     sizes = {"glb_bytes": len(glb), "web_bytes": len(web), "glb_sha256": sha256(glb),
              "web_sha256": sha256(web)}
-    if not jobs.finish(config, row.id, row.attempts, row.key, metrics, sizes, beat.lap()):
+    if not _recorded(jobs.finish, config, row.id, row.attempts, row.key, metrics, sizes,
+                     beat.lap()):
         raise Cancelled("the job was cancelled or taken over")
     return "done"
 

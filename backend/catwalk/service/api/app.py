@@ -138,6 +138,81 @@ def _serve_pages(app: FastAPI, root: Path) -> None:
         return FileResponse(root / "index.html", headers={"Cache-Control": "no-cache"})
 
 
+# OpenAPI links (what a client, or a stateful fuzzer, does next with an answer): source
+# (method, path, status) → link name → (target method, path, parameters, request body)
+_BODY = {"body_id": "$response.body#/id"}
+_JOB = {"job_id": "$response.body#/id"}
+_TRYON_LINKS = {
+    "GetTryOn": ("get", "/api/tryons/{job_id}", _JOB, None),
+    "TryOnEvents": ("get", "/api/tryons/{job_id}/events", _JOB, None),
+    "CancelTryOn": ("delete", "/api/tryons/{job_id}", _JOB, None),
+    "TryOnResult": ("get", "/api/tryons/{job_id}/result.glb", _JOB, None),
+    "TryOnPreview": ("get", "/api/tryons/{job_id}/preview.png", _JOB, None),
+}
+_GARMENT = {"garment_id": "$response.body#/garments/0/id"}
+LINKS = {
+    ("post", "/api/bodies", "201"): {
+        "GetBody": ("get", "/api/bodies/{body_id}", _BODY, None),
+        "GetBodyGlb": ("get", "/api/bodies/{body_id}/body.glb", _BODY, None),
+        "DeleteBody": ("delete", "/api/bodies/{body_id}", _BODY, None),
+        "SizeAdvice": ("get", "/api/garments/{garment_id}/sizes",
+                       {"query.body_id": "$response.body#/id"}, None),
+        "TryOn": ("post", "/api/tryons", {}, _BODY),
+    },
+    ("post", "/api/tryons", "202"): _TRYON_LINKS,
+    ("post", "/api/tryons", "200"): _TRYON_LINKS,
+    ("get", "/api/garments", "200"): {
+        "GetGarment": ("get", "/api/garments/{garment_id}", _GARMENT, None),
+        "Thumbnail": ("get", "/api/garments/{garment_id}/thumbnail.png", _GARMENT, None),
+        "Pattern": ("get", "/api/garments/{garment_id}/pattern.png", _GARMENT, None),
+        "Dressed": ("get", "/api/garments/{garment_id}/dressed.glb", _GARMENT, None),
+    },
+    ("get", "/api/garments/{garment_id}", "200"): {
+        "PatternOfASize": ("get", "/api/garments/{garment_id}/pattern.png",
+                           {"garment_id": "$response.body#/id",
+                            "query.size": "$response.body#/sizes/0"}, None),
+        "TryItOn": ("post", "/api/tryons", {}, {"garment_id": "$response.body#/id"}),
+    },
+}
+
+
+def _document(app: FastAPI) -> None:
+    """The OpenAPI document FastAPI makes, and: the links above; a refused request's 422 as
+    the API's JSON error (FastAPI names its own ``{"detail"}`` shape, never answered here)."""
+    generate = app.openapi
+
+    def openapi() -> dict:
+        if app.openapi_schema is not None:
+            return app.openapi_schema
+        spec = generate()
+        paths = spec.get("paths", {})
+        for (method, path, status), links in LINKS.items():
+            response = paths[path][method]["responses"][status]
+            response["links"] = {}
+            for name, (t_method, t_path, params, body) in links.items():
+                link = {"operationId": paths[t_path][t_method]["operationId"]}
+                if params:
+                    link["parameters"] = params
+                if body:
+                    link["requestBody"] = body
+                response["links"][name] = link
+        refused = "#/components/schemas/HTTPValidationError"
+        for ops in paths.values():
+            for op in ops.values():
+                r422 = op.get("responses", {}).get("422")
+                content = (r422 or {}).get("content", {}).get("application/json", {})
+                if content.get("schema", {}).get("$ref") == refused:
+                    content["schema"] = {"$ref": "#/components/schemas/Error"}
+                    r422["description"] = "a parameter FastAPI could not read (`invalid`)"
+        schemas = spec.get("components", {}).get("schemas", {})
+        if refused not in json.dumps(paths):
+            schemas.pop("HTTPValidationError", None)
+            schemas.pop("ValidationError", None)
+        return spec
+
+    app.openapi = openapi
+
+
 def create_app(config: Config | None = None, *, recovery: bool = True,
                frontend: Path | None = None) -> FastAPI:
     """The API. ``recovery``: run the recovery loop in this process; ``frontend``: the built
@@ -182,6 +257,7 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     errors.install(app)
     for r in (health.router, garments.router, bodies.router, tryons.router):
         app.include_router(r)
+    _document(app)
     if frontend is not None and (frontend / "index.html").is_file():
         _serve_pages(app, frontend)
     app.add_middleware(LimitUploads, limit=config.upload_max_bytes,

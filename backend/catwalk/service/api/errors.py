@@ -69,6 +69,32 @@ def _json(status: int, body: dict, headers: dict | None = None) -> JSONResponse:
     return JSONResponse(body, status_code=status, headers=headers)
 
 
+def _printable(text: str, limit: int) -> str:
+    """``text`` cut to ``limit`` characters, control characters escaped (for a message)."""
+    cut = text[:limit] + ("…" if len(text) > limit else "")
+    return "".join(c if c.isprintable() else ascii(c)[1:-1] for c in cut)
+
+
+def _path(request: Request) -> str:
+    return _printable(request.url.path, 200)
+
+
+def allowed_methods(request: Request) -> list[str]:
+    """Every method some route answers on this request's path (Starlette names only the first
+    route's in a 405's ``Allow``: ``GET`` where ``DELETE`` is allowed too)."""
+    from starlette.routing import Match
+
+    scope = {**request.scope, "method": "GET"}
+    methods: set[str] = set()
+    for route in request.app.router.routes:
+        if getattr(route, "path", None) == "/{path:path}":   # the pages' fallback
+            continue
+        match, _ = route.matches(scope)
+        if match is not Match.NONE:
+            methods |= set(getattr(route, "methods", None) or ())
+    return sorted(methods)
+
+
 def _field(loc) -> str | None:
     parts = [str(p) for p in loc if p not in ("body", "query", "path", "header")]
     return ".".join(parts) or None
@@ -98,10 +124,15 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException):
         msg = exc.detail if isinstance(exc.detail, str) else "request refused"
+        headers = getattr(exc, "headers", None)
         if exc.status_code == 404 and msg == "Not Found":
-            msg = f"no such route: {request.method} {request.url.path}"
-        return _json(exc.status_code, error_body(exc.status_code, msg),
-                     getattr(exc, "headers", None))
+            msg = f"no such route: {request.method} {_path(request)}"
+        elif exc.status_code == 405:
+            allow = allowed_methods(request)
+            headers = {**(headers or {}), "Allow": ", ".join(allow)}
+            msg = (f"{_printable(request.method, 20)} is not allowed on {_path(request)}; "
+                   f"allowed: {', '.join(allow)}")
+        return _json(exc.status_code, error_body(exc.status_code, msg), headers)
 
     @app.exception_handler(DBAPIError)
     async def _database_away(request: Request, exc: DBAPIError):

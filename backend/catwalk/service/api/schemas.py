@@ -3,11 +3,25 @@ from these."""
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
+from fastapi import Path, Query
 from pydantic import BaseModel, ConfigDict, Field
 
 from catwalk.body.make import RANGES
+
+# a body's or try-on's id as the service makes them (``jobs.new_id``: 32 URL-safe characters);
+# any other string is answered 404 before a query (``errors.check_id``), so the pattern is
+# documented here but not enforced as a 422
+ID_PATTERN = r"^[A-Za-z0-9_-]{8,64}$"
+_ID_DOC = "; unguessable (32 URL-safe characters). Unknown or malformed: 404"
+BodyId = Annotated[str, Path(description="the body's id" + _ID_DOC,
+                             json_schema_extra={"pattern": ID_PATTERN})]
+JobId = Annotated[str, Path(description="the try-on's id" + _ID_DOC,
+                            json_schema_extra={"pattern": ID_PATTERN})]
+BodyIdQuery = Annotated[str, Query(description="the shopper's body" + _ID_DOC,
+                                   json_schema_extra={"pattern": ID_PATTERN})]
+GarmentId = Annotated[str, Path(description="a catalogue garment's id (its file's stem)")]
 
 
 def _range(key: str, what: str):
@@ -41,8 +55,9 @@ class Body(BaseModel):
 
 class TryOnRequest(BaseModel):
     model_config = ConfigDict(extra="forbid")
-    body_id: str
-    garment_id: str
+    body_id: str = Field(description="the body's id (unknown or malformed: 404)",
+                         json_schema_extra={"pattern": ID_PATTERN})
+    garment_id: str = Field(description="a catalogue garment's id")
     size: str | None = Field(None, description="one of the garment's sizes (default: its "
                                                "default size)")
     fabric: str | None = Field(None, description="a fabric id from the garment's `fabrics` "
@@ -97,14 +112,116 @@ class Garments(BaseModel):
     garments: list[Garment]
 
 
+# one server-sent event of GET /api/tryons/{job_id}/events (the schema is each event's)
+TRYON_EVENT = {
+    "type": "object", "required": ["event", "data"],
+    "properties": {
+        "event": {"enum": ["progress", "done", "failed", "cancelled"]},
+        "data": {"type": "string", "contentMediaType": "application/json",
+                 "contentSchema": {"$ref": "#/components/schemas/TryOn"},
+                 "description": "the try-on as `GET /api/tryons/{job_id}` answers it"},
+    },
+}
+
+
+class SizeFit(BaseModel):
+    size: str
+    chart: dict[str, float] | None = Field(description="the girths of the sample body the "
+                                                        "size was made for, metres")
+    ease: dict[str, float] | None = Field(description="chart − body per girth, metres")
+    fits: bool | None
+
+
+class SizeAdvice(BaseModel):
+    garment_id: str
+    body_id: str
+    recommended: str
+    sizes: list[SizeFit]
+    basis: str
+
+
+class Health(BaseModel):
+    status: Literal["ok"]
+
+
+class Check(BaseModel):
+    ok: bool
+    ms: float | None = None
+    error: str | None = Field(None, description="`<Type>: <message>` of a failed check")
+
+
+class Readiness(BaseModel):
+    status: Literal["ready", "not ready"]
+    checks: dict[str, Check]
+
+
+class ErrorDetail(BaseModel):
+    field: str | None
+    message: str
+
+
 class ErrorBody(BaseModel):
     code: str
     message: str
-    field: str | None = None
+    field: str | None = Field(None, description="the parameter at fault, when one is")
+    details: list[ErrorDetail] | None = Field(
+        None, description="a request FastAPI refused: one entry per problem")
 
 
 class Error(BaseModel):
     error: ErrorBody
 
 
-ERRORS = {code: {"model": Error} for code in (400, 404, 409, 413, 415, 422)}
+_WHY = {
+    400: "unreadable: JSON that does not parse, a multipart body that cannot be read, a "
+         "`Range` that is not `bytes=start-end` (code `bad_range`)",
+    404: "unknown id (or the file it names missing)",
+    409: "not possible in the try-on's state (`finished`, `not_done`)",
+    413: "the request body is over `CATWALK_UPLOAD_MAX_BYTES` (`too_large`)",
+    415: "a `Content-Type` (or a scan type) this route does not take",
+    416: "a `Range` no byte of the file satisfies (`bad_range`, `Content-Range: bytes */size`)",
+    422: "a value missing, out of range, unknown or extra (`invalid`)",
+    503: "not now: the database cannot be reached (`unavailable`, `Retry-After`), a body not "
+         "made in time (`busy`), a file still being made (`not_ready`)",
+}
+
+
+def errors(*codes: int) -> dict:
+    """``responses=`` entries for these error statuses, each the API's JSON error."""
+    return {code: {"model": Error, "description": _WHY[code]} for code in codes}
+
+
+_BINARY = {"schema": {"type": "string", "format": "binary"}}
+_STR = {"schema": {"type": "string"}}
+
+
+def file_responses(media_type: str, *, ranges: bool = True, etag: bool = True) -> dict:
+    """``responses=`` for a route answering a file: 200 with it, 304 for a matching
+    ``If-None-Match`` and, with ``ranges``, 206 for a ``Range`` (several: multipart/byteranges)
+    and its 400/416."""
+    headers = {"Cache-Control": {"schema": {"type": "string"}, "required": True}}
+    if etag:
+        headers["ETag"] = {"schema": {"type": "string"}}
+    out = {200: {"description": "the file", "content": {media_type: _BINARY},
+                 "headers": headers},
+           304: {"description": "`If-None-Match` matched the `ETag`: not modified"}}
+    if ranges:
+        out[206] = {"description": "the bytes of a `Range` (several ranges: "
+                                   "multipart/byteranges)",
+                    "content": {media_type: _BINARY, "multipart/byteranges": _BINARY},
+                    "headers": {"Content-Range": {"schema": {"type": "string"}}}}
+        out.update(errors(400, 416))
+    return out
+
+
+# the request headers a file route reads (documented, so that a client and a fuzzer see them)
+FILE_HEADERS = {"parameters": [
+    {"name": "Range", "in": "header", "required": False, "schema": {"type": "string"},
+     "description": "`bytes=start-end[,start-end…]` → 206; past the end → 416; "
+                    "another form → 400"},
+    {"name": "If-Range", "in": "header", "required": False, "schema": {"type": "string"},
+     "description": "the `ETag`: the `Range` is answered only if it still matches"},
+    {"name": "If-None-Match", "in": "header", "required": False, "schema": {"type": "string"},
+     "description": "the `ETag` (a list, `W/` or `*`) → 304"},
+]}
+CONDITIONAL_HEADERS = {"parameters": FILE_HEADERS["parameters"][2:]}

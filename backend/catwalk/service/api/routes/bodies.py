@@ -109,7 +109,8 @@ async def _scan(request: Request) -> tuple[bytes, str, str | None]:
 
 
 @router.post("", status_code=201, response_model=schemas.Body, openapi_extra=_BODY_REQUEST,
-             responses=schemas.ERRORS, response_model_exclude_none=True)
+             responses=schemas.errors(400, 413, 415, 422, 503),
+             response_model_exclude_none=True)
 async def create_body(request: Request, config: Config = Depends(deps.config),
                       storage=Depends(deps.storage)) -> dict:
     """A body from a scan (multipart) or from measurements (JSON)."""
@@ -175,16 +176,18 @@ def _insert(config: Config, row: BodyRow) -> None:
         s.add(row)
 
 
-@router.get("/{body_id}", response_model=schemas.Body, responses=schemas.ERRORS,
+@router.get("/{body_id}", response_model=schemas.Body, responses=schemas.errors(404, 503),
             response_model_exclude_none=True)
-def get_body(body_id: str, config: Config = Depends(deps.config)) -> dict:
+def get_body(body_id: schemas.BodyId, config: Config = Depends(deps.config)) -> dict:
     return body_view(_get_row(config, body_id))
 
 
-@router.get("/{body_id}/body.glb", responses={200: {"content": {"model/gltf-binary": {}}},
-                                                **schemas.ERRORS})
+@router.get("/{body_id}/body.glb", response_class=Response,
+            responses={**schemas.file_responses("model/gltf-binary"),
+                       **schemas.errors(404, 503)},
+            openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{body_id}/body.glb", include_in_schema=False)
-def body_glb(body_id: str, request: Request, config: Config = Depends(deps.config),
+def body_glb(body_id: schemas.BodyId, request: Request, config: Config = Depends(deps.config),
              storage=Depends(deps.storage)):
     """The rigged body (skinned mesh, skeleton, landmarks) as glTF."""
     _get_row(config, body_id)
@@ -196,8 +199,9 @@ def body_glb(body_id: str, request: Request, config: Config = Depends(deps.confi
                          f'"{st.st_size:x}-{st.st_mtime_ns:x}"', "private, max-age=3600")
 
 
-@router.delete("/{body_id}", status_code=204, responses=schemas.ERRORS)
-def delete_body(body_id: str, config: Config = Depends(deps.config),
+@router.delete("/{body_id}", status_code=204, response_class=Response,
+               responses=schemas.errors(404, 503))
+def delete_body(body_id: schemas.BodyId, config: Config = Depends(deps.config),
                 storage=Depends(deps.storage)) -> Response:
     """Delete the body, its scan, every try-on made from it and their results (those no
     other body shares). A running try-on of it stops."""

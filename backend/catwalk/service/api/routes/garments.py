@@ -22,7 +22,7 @@ def _entry(catalogue, garment_id: str):
         raise not_found("garment", garment_id, "garment_id") from None
 
 
-@router.get("", response_model=schemas.Garments)
+@router.get("", response_model=schemas.Garments, responses=schemas.errors(422))
 def list_garments(type: str | None = Query(None, description="only garments of this type"),
                   catalogue=Depends(deps.catalogue)) -> dict:
     """Every garment in the catalogue."""
@@ -33,14 +33,17 @@ def list_garments(type: str | None = Query(None, description="only garments of t
 
 
 @router.get("/{garment_id}", response_model=schemas.GarmentDetail,
-            responses=schemas.ERRORS)
-def get_garment(garment_id: str, catalogue=Depends(deps.catalogue)) -> dict:
+            responses=schemas.errors(404, 422))
+def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.catalogue)) -> dict:
     return _entry(catalogue, garment_id).detail()
 
 
-@router.get("/{garment_id}/thumbnail.png", responses={200: {"content": {"image/png": {}}}})
+@router.get("/{garment_id}/thumbnail.png", response_class=Response,
+            responses={**schemas.file_responses("image/png"), **schemas.errors(404, 422)},
+            openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{garment_id}/thumbnail.png", include_in_schema=False)
-async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.catalogue)):
+async def thumbnail(garment_id: schemas.GarmentId, request: Request,
+                    catalogue=Depends(deps.catalogue)):
     """The garment dressed on a sample body (front view). Until it has been rendered, the
     flat cutting pattern (not cached)."""
     entry = _entry(catalogue, garment_id)
@@ -56,9 +59,13 @@ async def thumbnail(garment_id: str, request: Request, catalogue=Depends(deps.ca
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
 
 
-@router.get("/{garment_id}/dressed.glb", responses={200: {"content": {"model/gltf-binary": {}}}})
+@router.get("/{garment_id}/dressed.glb", response_class=Response,
+            responses={**schemas.file_responses("model/gltf-binary"),
+                       **schemas.errors(404, 422, 503)},
+            openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{garment_id}/dressed.glb", include_in_schema=False)
-async def dressed(garment_id: str, request: Request, catalogue=Depends(deps.catalogue)):
+async def dressed(garment_id: schemas.GarmentId, request: Request,
+                  catalogue=Depends(deps.catalogue)):
     """The garment in its default size dressed on that size's sample body, standing: a
     meshopt-compressed try-on file of one frame (made with the thumbnail)."""
     entry = _entry(catalogue, garment_id)
@@ -81,9 +88,12 @@ def _pattern(entry, size):
     return pattern_png(entry.garment, size)
 
 
-@router.get("/{garment_id}/pattern.png", responses={200: {"content": {"image/png": {}}}})
+@router.get("/{garment_id}/pattern.png", response_class=Response,
+            responses={**schemas.file_responses("image/png", ranges=False),
+                       **schemas.errors(404, 422)},
+            openapi_extra=schemas.CONDITIONAL_HEADERS)
 @router.head("/{garment_id}/pattern.png", include_in_schema=False)
-async def pattern(garment_id: str, request: Request, size: str | None = None,
+async def pattern(garment_id: schemas.GarmentId, request: Request, size: str | None = None,
                   catalogue=Depends(deps.catalogue)):
     """The garment's cutting pattern in one size, drawn flat."""
     entry = _entry(catalogue, garment_id)
@@ -98,8 +108,9 @@ async def pattern(garment_id: str, request: Request, size: str | None = None,
     return Response(png, media_type="image/png", headers=headers)
 
 
-@router.get("/{garment_id}/sizes", responses=schemas.ERRORS)
-def sizes(garment_id: str, body_id: str = Query(..., description="the shopper's body"),
+@router.get("/{garment_id}/sizes", response_model=schemas.SizeAdvice,
+            responses=schemas.errors(404, 422, 503))
+def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
           config=Depends(deps.config), catalogue=Depends(deps.catalogue)) -> dict:
     """Size advice: each size's chart (the sample body it was made for) against the body's
     girths, the ease (chart − body, metres), whether it fits, and the size recommended."""

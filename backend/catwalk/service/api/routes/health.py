@@ -6,15 +6,15 @@ import asyncio
 import time
 
 from fastapi import APIRouter, Depends, Request
-from fastapi.responses import JSONResponse, Response
+from fastapi.responses import JSONResponse, PlainTextResponse, Response
 
 from catwalk.config import Config
-from catwalk.service.api import deps
+from catwalk.service.api import deps, schemas
 
 router = APIRouter(tags=["health"])
 
 
-@router.get("/healthz")
+@router.get("/healthz", response_model=schemas.Health)
 def healthz() -> dict:
     return {"status": "ok"}
 
@@ -28,7 +28,9 @@ def _probe(name: str, fn) -> dict:
         return {"ok": False, "error": f"{type(exc).__name__}: {exc}"[:300]}
 
 
-@router.get("/metrics", responses={200: {"content": {"text/plain": {}}}})
+@router.get("/metrics", response_class=PlainTextResponse,
+            responses={200: {"description": "Prometheus's text format",
+                             "content": {"text/plain": {"schema": {"type": "string"}}}}})
 async def metrics(request: Request):
     """The service's metrics in Prometheus's text format (catwalk/service/metrics.py)."""
     from prometheus_client import CONTENT_TYPE_LATEST
@@ -37,7 +39,9 @@ async def metrics(request: Request):
     return Response(body, media_type=CONTENT_TYPE_LATEST)
 
 
-@router.get("/readyz")
+@router.get("/readyz", response_model=schemas.Readiness,
+            responses={503: {"model": schemas.Readiness,
+                             "description": "a check failed (its `error` says why)"}})
 async def readyz(config: Config = Depends(deps.config), storage=Depends(deps.storage)):
     from catwalk.service import db, queue
 

@@ -9,7 +9,7 @@ import json
 import logging
 
 from fastapi import APIRouter, Depends, Query, Request
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, Response
 from sqlalchemy.exc import IntegrityError
 from sse_starlette.sse import EventSourceResponse
 
@@ -124,7 +124,7 @@ def _add(config, storage, body, entry, req, size, fabric, key) -> tuple[TryOnRow
 @router.post("", status_code=202, response_model=schemas.TryOn,
              responses={200: {"model": schemas.TryOn,
                               "description": "already made: answered from the cache"},
-                        **schemas.ERRORS})
+                        **schemas.errors(400, 404, 413, 415, 422, 503)})
 async def create_tryon(req: schemas.TryOnRequest, request: Request,
                        config: Config = Depends(deps.config),
                        catalogue=Depends(deps.catalogue), storage=Depends(deps.storage),
@@ -147,14 +147,18 @@ async def create_tryon(req: schemas.TryOnRequest, request: Request,
 
 
 @router.get("/{job_id}", response_model=schemas.TryOn, response_model_exclude_none=True,
-            responses=schemas.ERRORS)
-def get_tryon(job_id: str, config: Config = Depends(deps.config)) -> dict:
+            responses=schemas.errors(404, 503))
+def get_tryon(job_id: schemas.JobId, config: Config = Depends(deps.config)) -> dict:
     return _view_of(config, job_id)
 
 
-@router.get("/{job_id}/events", responses={200: {"content": {"text/event-stream": {}}},
-                                           **schemas.ERRORS})
-async def tryon_events(job_id: str, request: Request, config: Config = Depends(deps.config)):
+@router.get("/{job_id}/events", response_class=Response,
+            responses={200: {"description": "`event: progress` on every change, then one "
+                                            "`event: done|failed|cancelled`",
+                             "content": {"text/event-stream": {"schema": schemas.TRYON_EVENT}}},
+                       **schemas.errors(404, 503)})
+async def tryon_events(job_id: schemas.JobId, request: Request,
+                       config: Config = Depends(deps.config)):
     """The try-on's status as server-sent events (``event: progress`` on every change, then
     one ``event: done|failed|cancelled``), until it ends."""
     row = await asyncio.to_thread(_job, config, job_id)
@@ -186,8 +190,8 @@ async def tryon_events(job_id: str, request: Request, config: Config = Depends(d
 
 
 @router.delete("/{job_id}", status_code=202, response_model=schemas.TryOn,
-               responses=schemas.ERRORS)
-def cancel_tryon(job_id: str, config: Config = Depends(deps.config)):
+               response_model_exclude_none=True, responses=schemas.errors(404, 409, 503))
+def cancel_tryon(job_id: schemas.JobId, config: Config = Depends(deps.config)):
     """Cancel the try-on: at once if queued, within half a second if running."""
     row = _job(config, job_id)
     if row.status in FINISHED:
@@ -207,10 +211,12 @@ def _result_file(config: Config, storage, job_id: str, name: str):
     return res, path
 
 
-@router.get("/{job_id}/result.glb", responses={200: {"content": {"model/gltf-binary": {}}},
-                                                **schemas.ERRORS})
+@router.get("/{job_id}/result.glb", response_class=Response,
+            responses={**schemas.file_responses("model/gltf-binary"),
+                       **schemas.errors(404, 409, 422, 503)},
+            openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{job_id}/result.glb", include_in_schema=False)
-def result_glb(job_id: str, request: Request,
+def result_glb(job_id: schemas.JobId, request: Request,
                compress: int = Query(1, ge=0, le=1, description="0: the plain file"),
                config: Config = Depends(deps.config), storage=Depends(deps.storage)):
     """The try-on as glTF: meshopt-compressed (EXT_meshopt_compression) for the web by
@@ -222,10 +228,12 @@ def result_glb(job_id: str, request: Request,
                          filename=f"tryon-{job_id[:8]}.glb")
 
 
-@router.get("/{job_id}/preview.png", responses={200: {"content": {"image/png": {}}},
-                                                **schemas.ERRORS})
+@router.get("/{job_id}/preview.png", response_class=Response,
+            responses={**schemas.file_responses("image/png"),
+                       **schemas.errors(404, 409, 503)},
+            openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{job_id}/preview.png", include_in_schema=False)
-def preview_png(job_id: str, request: Request, config: Config = Depends(deps.config),
+def preview_png(job_id: schemas.JobId, request: Request, config: Config = Depends(deps.config),
                 storage=Depends(deps.storage)):
     """Four moments of the walk, front and side, rendered on the CPU."""
     res, path = _result_file(config, storage, job_id, "preview.png")
