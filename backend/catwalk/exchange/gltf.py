@@ -508,6 +508,28 @@ def load_glb(source, what: str = "glb") -> tuple[Gltf, bytes]:
 _PARSED: dict[bytes, tuple[Gltf, bytes]] = {}
 
 
+@_quiet
+def check_meshes(source, what: str = "glb") -> None:
+    """Check a .glb's mesh data before another library parses it (trimesh, for a scan): the
+    document (:func:`load_glb`) and, for every primitive, its ``POSITION`` (3 floats) and
+    ``indices`` (integers) accessors inside the binary chunk — so a header that claims 4 GB
+    or a billion elements is refused before anything is allocated."""
+    gltf, blob = load_glb(source, what)
+    path = what if isinstance(source, (bytes, bytearray, memoryview)) else str(source)
+    for mi, mesh in enumerate(gltf.meshes):
+        for pi, prim in enumerate(mesh.primitives or []):
+            where = f"mesh {mi} primitive {pi}"
+            attrs = prim.attributes
+            position = attrs.POSITION if attrs is not None else None
+            if position is None:
+                raise InputError(f"{path}: {where} has no POSITION")
+            _read_accessor(gltf, blob, position, path, f"{where} POSITION", width=3,
+                           kinds="f")
+            if prim.indices is not None:
+                _read_accessor(gltf, blob, prim.indices, path, f"{where} indices", width=1,
+                               kinds="iu")
+
+
 def _node_local(node: GltfObject, path: str = "glb", what: str = "node") -> np.ndarray:
     """A node's local transform, its TRS or matrix checked (finite, a proper rotation)."""
     if node.matrix:

@@ -138,6 +138,9 @@ def _precheck(data: bytes, path: str, fmt: str) -> None:
         if size < length:
             raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
                              f"file has {size:,}")
+        from catwalk.exchange.gltf import check_meshes
+
+        check_meshes(data, path)
 
 
 def _read(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
