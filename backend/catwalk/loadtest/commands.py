@@ -19,5 +19,8 @@ def register(top, groups) -> None:
     p.add_argument("--seconds", type=float, default=60.0, help="how long (60)")
     p.add_argument("--garment", default="pencil-skirt",
                    help="the catalogue garment the try-ons use (pencil-skirt)")
+    p.add_argument("--mix", choices=["shoppers", "api"], default="shoppers",
+                   help="shoppers: everything (default); api: no bodies made — the API's own "
+                        "routes, with new try-ons so that the workers simulate")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_loadtest)

@@ -35,9 +35,18 @@ def prepare(url: str, garment: str) -> tuple[str, str]:
     return body["id"], job["id"]
 
 
-def run(url: str, users: int, seconds: float, garment: str = "pencil-skirt") -> dict:
+MIXES = {
+    "shoppers": [],                             # everything a shopper does
+    "api": ["--exclude-tags", "bodies"],        # no bodies made: the API's own routes, and new
+}                                               # try-ons so that the workers simulate
+
+
+def run(url: str, users: int, seconds: float, garment: str = "pencil-skirt",
+        mix: str = "shoppers") -> dict:
     """Run ``users`` shoppers for ``seconds`` against ``url``; the summary (docstring of
-    :mod:`catwalk.loadtest.locustfile`)."""
+    :mod:`catwalk.loadtest.locustfile`). ``mix``: a key of :data:`MIXES`."""
+    if mix not in MIXES:
+        raise InputError(f"mix {mix!r}: one of {', '.join(MIXES)}", "mix")
     import os
 
     import httpx
@@ -54,17 +63,18 @@ def run(url: str, users: int, seconds: float, garment: str = "pencil-skirt") -> 
         cmd = [sys.executable, "-m", "locust", "-f", str(LOCUSTFILE), "--headless",
                "--host", url.rstrip("/"), "-u", str(users), "-r", str(max(1, users // 2)),
                "-t", f"{max(1, round(seconds))}s", "--only-summary", "--stop-timeout", "10",
-               "--exit-code-on-error", "0", "--loglevel", "WARNING"]
+               "--exit-code-on-error", "0", "--loglevel", "WARNING", *MIXES[mix]]
         res = subprocess.run(cmd, env=env, capture_output=True, text=True,
                              timeout=seconds + 900)
         if not out.is_file():
             raise SetupError(f"locust ended ({res.returncode}) without a summary: "
                              f"{(res.stderr or res.stdout)[-2000:]}")
-        return json.loads(out.read_text())
+        return {"mix": mix, "users": users, **json.loads(out.read_text())}
 
 
 def format_table(r: dict) -> str:
-    lines = [f"catwalk loadtest: {r['requests']} requests in {r['seconds']:.0f} s "
+    lines = [f"catwalk loadtest ({r['mix']} mix, {r['users']} users): {r['requests']} requests "
+             f"in {r['seconds']:.0f} s "
              f"({r['rps']:.0f}/s), {r['failures']} failures; try-ons asked "
              f"{r['tryons_asked']}, done {r['tryons_done']} ({r['tryons_per_minute']:.1f}/min)",
              f"  {'route':44s} {'requests':>9s} {'rps':>7s} {'p50':>6s} {'p95':>6s} {'p99':>6s}"
@@ -81,6 +91,6 @@ def main(args) -> int:
         raise InputError(f"--users must be at least 1, got {args.users}")
     if not 1 <= args.seconds <= 3600:
         raise InputError(f"--seconds must be within 1–3600, got {args.seconds}")
-    r = run(args.url, args.users, args.seconds, args.garment)
+    r = run(args.url, args.users, args.seconds, args.garment, args.mix)
     print(json.dumps(r, indent=2) if args.json else format_table(r))
     return 0

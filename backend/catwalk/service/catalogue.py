@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import logging
 import threading
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -61,6 +62,9 @@ def garment_version(path: Path, garment: Garment) -> str:
     return sha256("\n".join(parts).encode())[:32]
 
 
+CHECK_EVERY_S = 1.0
+
+
 class Catalogue:
     def __init__(self, config: Config):
         self.root = config.catalogue_dir
@@ -68,6 +72,7 @@ class Catalogue:
         self._stamp: tuple | None = None
         self._entries: dict[str, Entry] = {}
         self._listing: list[dict] | None = None
+        self._checked = -1e9   # when the files were last looked at (time.monotonic)
 
     def _current_stamp(self) -> tuple:
         files = sorted(self.root.glob("*.json")) + sorted((self.root / "textures").glob("*"))
@@ -92,7 +97,13 @@ class Catalogue:
         return out
 
     def entries(self) -> dict[str, Entry]:
+        """The garments, read again when a file changed: the folder is looked at once a second
+        at most (a glob and two stats a file cost more than the rest of a catalogue route)."""
+        now = time.monotonic()
+        if now - self._checked < CHECK_EVERY_S:
+            return self._entries
         stamp = self._current_stamp()
+        self._checked = now
         with self._lock:
             if stamp != self._stamp:
                 self._entries, self._stamp = self._load(), stamp

@@ -235,16 +235,24 @@ def recover(config: Config, send, queued_in_broker) -> dict:
 RESULTS_LOCK = threading.Lock()
 
 
-def lock_result(session, key: str) -> ResultRow | None:
-    """The result's row, locked until the session ends (PostgreSQL; SQLite: RESULTS_LOCK)."""
+def results_lock(config: Config):
+    """This process's lock around result rows where the database has no row locks (SQLite);
+    with PostgreSQL, nothing: :func:`lock_result` locks the row itself."""
+    return RESULTS_LOCK if config.db_url.startswith("sqlite") else contextlib.nullcontext()
+
+
+def lock_result(session, key: str, *, shared: bool = False) -> ResultRow | None:
+    """The result's row, locked until the session ends (PostgreSQL; SQLite: hold
+    :func:`results_lock`). ``shared``: FOR SHARE — answers from the cache do not wait for each
+    other, only for a deletion (FOR UPDATE) of the row."""
     return session.scalars(select(ResultRow).where(ResultRow.key == key)
-                           .with_for_update()).first()
+                           .with_for_update(read=shared)).first()
 
 
 def delete_for_body(config: Config, body_id: str) -> list[str]:
     """Delete the body's try-ons (a running one is asked to stop; its worker finds its row
     gone) and return the result keys no other try-on uses any more (their rows deleted)."""
-    with RESULTS_LOCK, db.session(config) as s:
+    with results_lock(config), db.session(config) as s:
         keys = sorted(set(s.scalars(select(TryOnRow.key).where(TryOnRow.body_id == body_id))))
         for key in keys:   # in key order: two deletions never wait for each other in a circle
             lock_result(s, key)
@@ -260,13 +268,18 @@ def delete_for_body(config: Config, body_id: str) -> list[str]:
         return orphaned
 
 
+def active_in(session, body_id: str, key: str) -> TryOnRow | None:
+    """This body's queued or running try-on with this key, if any (in ``session``)."""
+    return session.scalars(select(TryOnRow).where(TryOnRow.body_id == body_id,
+                                                  TryOnRow.key == key,
+                                                  TryOnRow.status.in_(ACTIVE))
+                           .limit(1)).first()
+
+
 def active_for(config: Config, body_id: str, key: str) -> TryOnRow | None:
     """This body's queued or running try-on with this key, if any."""
     with db.session(config) as s:
-        return s.scalars(select(TryOnRow).where(TryOnRow.body_id == body_id,
-                                                TryOnRow.key == key,
-                                                TryOnRow.status.in_(ACTIVE))
-                         .limit(1)).first()
+        return active_in(s, body_id, key)
 
 
 def seen(config: Config, worker: str, concurrency: int) -> None:

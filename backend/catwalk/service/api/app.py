@@ -10,6 +10,7 @@ whole.
 from __future__ import annotations
 
 import contextlib
+import gc
 import json
 import logging
 from pathlib import Path
@@ -237,6 +238,10 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
         with contextlib.suppress(Exception):
             for entry in app.state.catalogue.entries().values():
                 app.state.thumbnails.ensure(entry)
+        # what start-up made (modules, the catalogue, numba's types) lives as long as the
+        # process: out of the collector's sight, so that a full collection does not walk it
+        # while requests wait (gc.freeze, as CPython's documentation advises for servers)
+        gc.freeze()
         log.info(json.dumps({"event": "api_ready", "embedded": config.embedded}))
         yield
         if loop_thread is not None:

@@ -1,4 +1,7 @@
-"""What routes get from the app: its settings, storage, catalogue, pools."""
+"""What routes get from the app: its settings, storage, catalogue, pools.
+
+Each is ``async``: FastAPI runs a plain ``def`` dependency in its thread pool, a hop per
+dependency per request; these only read the app's state."""
 
 from __future__ import annotations
 
@@ -9,19 +12,19 @@ from catwalk.service.catalogue import Catalogue
 from catwalk.service.storage import Storage
 
 
-def config(request: Request) -> Config:
+async def config(request: Request) -> Config:
     return request.app.state.config
 
 
-def storage(request: Request) -> Storage:
+async def storage(request: Request) -> Storage:
     return request.app.state.storage
 
 
-def catalogue(request: Request) -> Catalogue:
+async def catalogue(request: Request) -> Catalogue:
     return request.app.state.catalogue
 
 
-def json_body(request: Request) -> None:
+async def json_body(request: Request) -> None:
     """Refuse (415) a request body that is not declared as JSON."""
     from catwalk.service.api.errors import ApiError
 

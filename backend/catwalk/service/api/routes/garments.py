@@ -23,8 +23,8 @@ def _entry(catalogue, garment_id: str):
 
 
 @router.get("", response_model=schemas.Garments, responses=schemas.errors(422))
-def list_garments(type: str | None = Query(None, description="only garments of this type"),
-                  catalogue=Depends(deps.catalogue)) -> dict:
+async def list_garments(type: str | None = Query(None, description="only garments of this type"),
+                        catalogue=Depends(deps.catalogue)) -> dict:
     """Every garment in the catalogue."""
     items = catalogue.listing()
     if type:
@@ -34,7 +34,7 @@ def list_garments(type: str | None = Query(None, description="only garments of t
 
 @router.get("/{garment_id}", response_model=schemas.GarmentDetail,
             responses=schemas.errors(404, 422))
-def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.catalogue)) -> dict:
+async def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.catalogue)) -> dict:
     return _entry(catalogue, garment_id).detail()
 
 

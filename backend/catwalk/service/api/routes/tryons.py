@@ -59,36 +59,38 @@ def _job(config: Config, job_id: str) -> TryOnRow:
 
 
 def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
-            ) -> tuple[TryOnRow, bool]:
+            ) -> tuple[TryOnRow, bool, dict]:
     """The try-on row for ``req``: a new queued one, this body's running one with the same
-    key, or a done one answered from the cache. (row, needs sending)."""
+    key, or a done one answered from the cache. (row, needs sending, its JSON)."""
     from catwalk.garment.check import resolve_fabric
 
     check_id(req.body_id, "body", "body_id")
-    with db.session(config) as s:
-        body = s.get(BodyRow, req.body_id)
-    if body is None:
-        raise not_found("body", req.body_id, "body_id")
     try:
         entry = catalogue.get(req.garment_id)
     except InputError:
-        raise not_found("garment", req.garment_id, "garment_id") from None
-    g = entry.garment
-    if req.size is not None and req.size not in g.sizes:
-        raise ApiError(422, f"garment {req.garment_id!r} has no size {req.size!r} (sizes: "
-                            f"{', '.join(g.sizes)})", "size")
-    size = g.size(req.size)
-    fabric = None if req.fabric in (None, entry.fabric) else req.fabric
-    if fabric is not None:
-        if fabric not in entry.fabrics:
-            raise ApiError(422, f"unknown fabric {fabric!r} (choose from "
-                                f"{', '.join(entry.fabrics)})", "fabric")
-        resolve_fabric(fabric, "fabric")
-    key = keys.tryon_key(body.content_key, entry.id, entry.version, size, fabric,
-                         req.seconds, req.preset)
-    running = jobs.active_for(config, body.id, key)
-    if running is not None:
-        return running, False
+        entry = None
+    with db.session(config) as s:   # the body and its running try-on read at once
+        body = s.get(BodyRow, req.body_id)
+        if body is None:
+            raise not_found("body", req.body_id, "body_id")
+        if entry is None:
+            raise not_found("garment", req.garment_id, "garment_id")
+        g = entry.garment
+        if req.size is not None and req.size not in g.sizes:
+            raise ApiError(422, f"garment {req.garment_id!r} has no size {req.size!r} (sizes: "
+                                f"{', '.join(g.sizes)})", "size")
+        size = g.size(req.size)
+        fabric = None if req.fabric in (None, entry.fabric) else req.fabric
+        if fabric is not None:
+            if fabric not in entry.fabrics:
+                raise ApiError(422, f"unknown fabric {fabric!r} (choose from "
+                                    f"{', '.join(entry.fabrics)})", "fabric")
+            resolve_fabric(fabric, "fabric")
+        key = keys.tryon_key(body.content_key, entry.id, entry.version, size, fabric,
+                             req.seconds, req.preset)
+        running = jobs.active_in(s, body.id, key)
+        if running is not None:
+            return running, False, jobs.view(running)
     # the result, if there is one, cannot be deleted (its last body going) while this try-on
     # is added as answered from it: its row is locked until the new row is in. Two requests
     # at once for the same try-on: the unique index on active (body, key) lets one row in;
@@ -99,12 +101,15 @@ def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
         running = jobs.active_for(config, body.id, key)
         if running is None:
             raise
-        return running, False
+        return running, False, jobs.view(running)
 
 
-def _add(config, storage, body, entry, req, size, fabric, key) -> tuple[TryOnRow, bool]:
-    with jobs.RESULTS_LOCK, db.session(config) as s:
-        result = jobs.lock_result(s, key)
+def _add(config, storage, body, entry, req, size, fabric, key) -> tuple[TryOnRow, bool, dict]:
+    stored = storage.result_file(key, "tryon.glb").is_file()
+    with jobs.results_lock(config), db.session(config) as s:
+        # shared while the files are there (answers from the cache do not wait for each
+        # other); exclusive when the row is to go
+        result = jobs.lock_result(s, key, shared=stored)
         if result is not None and not storage.result_file(key, "tryon.glb").is_file():
             s.delete(result)   # its files are gone (storage lost or wiped): make it again
             result = None
@@ -118,7 +123,10 @@ def _add(config, storage, body, entry, req, size, fabric, key) -> tuple[TryOnRow
                        stage="done" if cached else "queued",
                        finished_at=now if cached else None)
         s.add(row)
-    return row, not cached
+        view = jobs.view(row)
+        if cached:
+            view["metrics"] = result.metrics
+    return row, not cached, view
 
 
 @router.post("", status_code=202, response_model=schemas.TryOn,
@@ -132,7 +140,8 @@ async def create_tryon(req: schemas.TryOnRequest, request: Request,
     """Ask for a try-on of a body in a catalogue garment."""
     from catwalk.service.queue import send
 
-    row, needs_sending = await asyncio.to_thread(_submit, config, catalogue, storage, req)
+    row, needs_sending, view = await asyncio.to_thread(_submit, config, catalogue, storage,
+                                                       req)
     request.app.state.metrics.cache.labels("hit" if row.cached else "miss").inc()
     if needs_sending:
         try:
@@ -140,7 +149,6 @@ async def create_tryon(req: schemas.TryOnRequest, request: Request,
         except Exception as exc:   # the recovery loop sends it once the broker is back
             log.warning(json.dumps({"event": "send_failed", "job": row.id,
                                     "error": type(exc).__name__}))
-    view = await asyncio.to_thread(_view, config, row)
     log.info(json.dumps({"event": "tryon_asked", "job": row.id, "status": row.status,
                          "cached": row.cached, "garment": row.garment_id}))
     return JSONResponse(view, status_code=200 if row.status == "done" else 202)
