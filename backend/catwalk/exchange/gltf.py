@@ -517,10 +517,15 @@ def check_meshes(source, what: str = "glb") -> None:
     gltf, blob = load_glb(source, what)
     path = what if isinstance(source, (bytes, bytearray, memoryview)) else str(source)
     for mi, mesh in enumerate(gltf.meshes):
-        for pi, prim in enumerate(mesh.primitives or []):
+        prims = mesh.primitives
+        if not isinstance(prims, list):
+            raise InputError(f"{path}: mesh {mi}: primitives must be a list, got {prims!r:.40}")
+        for pi, prim in enumerate(prims):
             where = f"mesh {mi} primitive {pi}"
             attrs = prim.attributes
-            position = attrs.POSITION if attrs is not None else None
+            if not isinstance(attrs, GltfObject):
+                raise InputError(f"{path}: {where}: attributes must be an object")
+            position = attrs.POSITION
             if position is None:
                 raise InputError(f"{path}: {where} has no POSITION")
             _read_accessor(gltf, blob, position, path, f"{where} POSITION", width=3,
