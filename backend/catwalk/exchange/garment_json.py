@@ -44,6 +44,8 @@ MAX_NAME = 200          # characters of a size or panel name
 
 # --- reading -------------------------------------------------------------------------------
 
+MAX_COORDINATE_M = 1000.0   # a pattern point farther from the origin is no garment in metres
+
 def _pt(value, where: str) -> np.ndarray:
     try:
         arr = np.asarray(value, dtype=float)
@@ -51,6 +53,9 @@ def _pt(value, where: str) -> np.ndarray:
         raise InputError(f"{where}: expected a point [x, y] in metres, got {value!r}") from None
     if arr.shape != (2,) or not np.all(np.isfinite(arr)) or isinstance(value, (str, bytes)):
         raise InputError(f"{where}: expected a point [x, y] in metres, got {value!r}")
+    if np.abs(arr).max() > MAX_COORDINATE_M:
+        raise InputError(f"{where}: {value!r} is more than {MAX_COORDINATE_M:g} m from the "
+                         "origin: not garment-sized (a pattern's unit is the metre)")
     return arr
 
 
