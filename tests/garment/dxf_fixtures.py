@@ -37,8 +37,9 @@ def _block(doc, name, piece, size, qty, outline, *, style, grain=None, notches=(
 
 
 def write_pattern(path, *, style="gerber", units="ENGLISH", sizes=("S", "M", "L"),
-                  extra_pieces=(), drop_units=False):
-    """A two-piece skirt (front cut on fold, back with quantity 2) in ``sizes``.
+                  extra_pieces=(), drop_units=False, back_qty=2):
+    """A two-piece skirt (front cut on fold, back with quantity ``back_qty``: 2, or ASTM's
+    "1,1") in ``sizes``; ``extra_pieces``: (block, piece, size, outline[, quantity]).
 
     Units ENGLISH: inches; METRIC: millimetres. Front: a half panel 10 × 24 in (+ 0.5 per
     size step) with a mirror line along its left edge; back: 20 × 24 in rectangle, 2 notches."""
@@ -53,14 +54,14 @@ def write_pattern(path, *, style="gerber", units="ENGLISH", sizes=("S", "M", "L"
                grain=((w / 2, 2 * k), (w / 2, 20 * k)), notches=[(w, 10 * k)],
                mirror=((0.0, 0.0), (0.0, h)))
         back = [(0.0, 0.0), (2 * w, 0.0), (2 * w, h), (w, h + 0.5 * k), (0.0, h)]
-        _block(doc, f"BACK_{size}", "BACK", size, 2, back, style=style,
+        _block(doc, f"BACK_{size}", "BACK", size, back_qty, back, style=style,
                grain=((w, 2 * k), (w, 20 * k)), notches=[(0.0, 10 * k), (2 * w, 10 * k)],
                texts_upper=(style == "clo"))
         for name in (f"FRONT_{size}", f"BACK_{size}"):
             doc.modelspace().add_blockref(name, (x, 0.0))
             x += 30.0 * k
-    for blkname, piece, size, outline in extra_pieces:
-        _block(doc, blkname, piece, size, 1, outline, style=style)
+    for blkname, piece, size, outline, *qty in extra_pieces:
+        _block(doc, blkname, piece, size, qty[0] if qty else 1, outline, style=style)
         doc.modelspace().add_blockref(blkname, (x, 0.0))
         x += 30.0 * k
     msp = doc.modelspace()

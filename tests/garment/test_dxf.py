@@ -63,8 +63,8 @@ def test_import_cli_json_and_markup(tmp_path, capsys):
     assert code == 0, err
     rows = json.loads(stdout)
     assert {r["name"] for r in rows} == {"FRONT", "BACK"} and len(rows) == 6
-    assert set(rows[0]) == {"name", "size", "quantity", "area_m2", "perimeter_m", "notches",
-                            "mirrored"}
+    assert set(rows[0]) == {"name", "size", "quantity", "flipped", "area_m2", "perimeter_m",
+                            "notches", "mirrored"}
     g = load_garment(out)
     assert [p.name for p in g.panels] == ["front", "back_left", "back_right"]
     assert g.sizes == ["S", "M", "L"] and g.default_size == "M" and g.fabric == "denim"
@@ -216,3 +216,46 @@ def test_malformed_markup_raises_input_errors_only(tmp_path):
 
     tried = assert_only_input_errors(base, use, BAD_VALUES[:4])
     assert tried > 100
+
+
+@pytest.mark.parametrize("qty,copies", [("1,1", [False, True]), ("2,0", [False, False]),
+                                        ("2,1", [False, False, True]),
+                                        ("2", [False, True])])
+def test_astm_quantity_as_drawn_and_mirrored(tmp_path, qty, copies):
+    """ASTM D6673's 'Quantity: N,M' (N as drawn, M mirrored) beside AAMA's 'Quantity: N' (a
+    pair alternates plain and mirrored)."""
+    from catwalk.exchange.dxf import pieces_to_garment, read_dxf
+
+    path = write_pattern(tmp_path / "astm.dxf", style="clo", units="METRIC", back_qty=qty)
+    pieces, _ = read_dxf(path)
+    back = next(p for p in pieces if p.name == "BACK")
+    assert back.quantity == len(copies)
+    assert back.flipped == (None if "," not in qty else int(qty.split(",")[1]))
+    g = pieces_to_garment(pieces, "skirt")
+    panels = [p for p in g.panels if p.name == "BACK" or p.copy_of == "BACK"]
+    assert [bool(p.mirror) for p in panels] == copies
+
+
+def test_a_piece_of_quantity_zero_is_skipped_with_a_warning(tmp_path):
+    from catwalk.exchange.dxf import read_dxf
+
+    extra = [(f"SPARE_{s}", "SPARE", s, [(0, 0), (100, 0), (100, 100), (0, 100)], 0)
+             for s in ("S", "M", "L")]
+    pieces, warnings = read_dxf(write_pattern(tmp_path / "z.dxf", style="clo", units="METRIC",
+                                              extra_pieces=extra))
+    assert {p.name for p in pieces} == {"FRONT", "BACK"}
+    assert sum("quantity 0 (not cut): skipped" in w and "SPARE" in w for w in warnings) == 3
+
+
+@pytest.mark.parametrize("qty,message", [("1,x", "is not a number"),
+                                         ("1,1,1", "neither N nor N,M"),
+                                         ("0,2", "cut only mirrored"),
+                                         ("15,15", "30 copies; at most")])
+def test_bad_astm_quantities_are_refused(tmp_path, qty, message):
+    from catwalk.errors import InputError
+    from catwalk.exchange.dxf import read_dxf
+
+    path = write_pattern(tmp_path / "bad.dxf", style="clo", units="METRIC", back_qty=qty)
+    with pytest.raises(InputError, match=message) as caught:
+        read_dxf(path)
+    assert "piece 'BACK'" in str(caught.value) and f"Quantity: {qty}" in str(caught.value)

@@ -66,6 +66,7 @@ class Piece:
     fold: int | None = None
     block: str = ""
     texts: dict = field(default_factory=dict)
+    flipped: int | None = None   # ASTM "Quantity: N,M": M of the copies cut mirrored
 
     @property
     def area_m2(self) -> float:
@@ -77,6 +78,7 @@ class Piece:
 
     def summary(self) -> dict:
         return {"name": self.name, "size": self.size, "quantity": self.quantity,
+                "flipped": self.flipped,
                 "area_m2": round(self.area_m2, 6), "perimeter_m": round(self.perimeter_m, 5),
                 "notches": int(len(self.notches)), "mirrored": self.mirror_line is not None}
 
@@ -367,7 +369,12 @@ def read_dxf(source, size: str | None = None, units: str | None = None
                 if "piece name" not in texts:
                     continue   # a style-text block, or one without geometry
                 raise InputError(f"{where}: no boundary (layer 1) and no closed polyline")
-        pieces.append(_piece(ents, boundary_ents, texts, name, psize, bname, scale, where))
+        qty, flipped = _quantity(texts.get("quantity"), where)
+        if qty == 0:
+            warnings.append(f"{where}: quantity 0 (not cut): skipped")
+            continue
+        pieces.append(_piece(ents, boundary_ents, texts, name, psize, bname, scale, where,
+                             qty, flipped))
     if not pieces:  # plain DXF: closed polylines in model space on any layer
         counts: dict[str, int] = {}
         for e in msp:
@@ -378,7 +385,7 @@ def read_dxf(source, size: str | None = None, units: str | None = None
             counts[layer] = counts.get(layer, 0) + 1
             name = f"{layer}-{counts[layer]}"
             where = f"{path}: piece {name!r}"
-            pieces.append(_piece([e], [e], {}, name, "one-size", "", scale, where))
+            pieces.append(_piece([e], [e], {}, name, "one-size", "", scale, where, 1, None))
     if len(pieces) > MAX_PIECES:
         raise InputError(f"{path}: {len(pieces):,} pieces; at most {MAX_PIECES:,} are read")
     if not pieces:
@@ -399,16 +406,42 @@ def read_dxf(source, size: str | None = None, units: str | None = None
     return pieces, warnings
 
 
-def _piece(ents, boundary_ents, texts, name, psize, bname, scale, where) -> Piece:
-    raw_qty = texts.get("quantity", "1") or "1"
+def _count(text: str, raw: str, where: str) -> int:
     try:
-        qty = float(raw_qty)
+        n = float(text)
     except ValueError:
-        raise InputError(f"{where}: 'Quantity: {raw_qty}' is not a number") from None
-    if not (math.isfinite(qty) and qty == int(qty) and 1 <= qty <= MAX_QUANTITY):
-        raise InputError(f"{where}: 'Quantity: {raw_qty}' is not a whole number of copies "
-                         f"1–{MAX_QUANTITY}")
-    qty = int(qty)
+        raise InputError(f"{where}: 'Quantity: {raw}' is not a number") from None
+    if not (math.isfinite(n) and n == int(n) and 0 <= n <= MAX_QUANTITY):
+        raise InputError(f"{where}: 'Quantity: {raw}' is not a whole number of copies "
+                         f"0–{MAX_QUANTITY}")
+    return int(n)
+
+
+def _quantity(raw: str | None, where: str) -> tuple[int, int | None]:
+    """The copies a piece is cut in and how many of them mirrored: AAMA's ``Quantity: N``
+    (N, None: copies alternate plain and mirrored, a left and right pair) or ASTM D6673's
+    ``Quantity: N,M`` (N + M, M: N cut as drawn, M mirrored). 0 copies: the piece is not
+    cut."""
+    raw = (raw or "1").strip() or "1"
+    parts = [p.strip() for p in raw.split(",")]
+    if len(parts) > 2:
+        raise InputError(f"{where}: 'Quantity: {raw}' is neither N nor N,M (as drawn, "
+                         "mirrored)")
+    counts = [_count(p, raw, where) for p in parts]
+    if len(counts) == 1:
+        return counts[0], None
+    plain, flipped = counts
+    if plain + flipped > MAX_QUANTITY:
+        raise InputError(f"{where}: 'Quantity: {raw}': {plain + flipped} copies; at most "
+                         f"{MAX_QUANTITY}")
+    if plain == 0 and flipped > 0:
+        raise InputError(f"{where}: 'Quantity: {raw}': a piece cut only mirrored is not read; "
+                         f"mirror it in the file and give 'Quantity: {flipped},0'")
+    return plain + flipped, flipped
+
+
+def _piece(ents, boundary_ents, texts, name, psize, bname, scale, where, qty: int,
+           flipped: int | None) -> Piece:
     # chaining tolerance: 0.5 mm
     loop = _loop_from(boundary_ents, scale, where, tol=5e-4)
     segs = _to_segments(loop, where)
@@ -435,14 +468,15 @@ def _piece(ents, boundary_ents, texts, name, psize, bname, scale, where) -> Piec
         mline = mline - origin
         fold = _find_fold(segs, mline, tol=5e-4)
     return Piece(name, psize, qty, segs, grain, notches.reshape(-1, 2), mline, fold, bname,
-                 texts)
+                 texts, flipped)
 
 
 # --- to a garment ---------------------------------------------------------------------------
 
 def pieces_to_garment(pieces: list[Piece], name: str, source: dict | None = None) -> Garment:
     """A garment with one panel per piece name (its sizes as shapes); quantity 2 adds a
-    mirrored copy ``NAME (2)``, higher quantities alternate plain and mirrored copies."""
+    mirrored copy ``NAME (2)``, higher quantities alternate plain and mirrored copies (ASTM's
+    ``N,M``: the copies after the first N are the mirrored ones)."""
     sizes = []
     for p in pieces:
         if p.size not in sizes:
@@ -460,11 +494,16 @@ def pieces_to_garment(pieces: list[Piece], name: str, source: dict | None = None
                   for p in group}
         first = group[0]
         meta = {"dxf_block": first.block, "quantity": first.quantity}
+        if first.flipped is not None:
+            meta["flipped"] = first.flipped
         if first.mirror_line is not None and first.fold is None:
             meta["mirror_line"] = [[round(float(x), 6) for x in pt] for pt in first.mirror_line]
         panels.append(Panel(pname, "other", shapes, fold=first.fold, meta=meta))
+        plain = first.quantity - (first.flipped or 0)
         for k in range(2, first.quantity + 1):
-            panels.append(Panel(f"{pname} ({k})", "other", copy_of=pname, mirror=(k % 2 == 0)))
+            # AAMA: alternate (a pair is a left and a right); ASTM N,M: N as drawn, M mirrored
+            mirror = k % 2 == 0 if first.flipped is None else k > plain
+            panels.append(Panel(f"{pname} ({k})", "other", copy_of=pname, mirror=mirror))
     return Garment(name, "other", sizes, panels, [], "cotton-jersey", source=source or {})
 
 

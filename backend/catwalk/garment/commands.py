@@ -93,9 +93,11 @@ def _import(args) -> int:
     else:
         for p in pieces:
             s = p.summary()
-            print(f"{s['name']:<24} size {s['size']:<8} qty {s['quantity']}  "
+            qty = str(s["quantity"]) if s["flipped"] is None else \
+                f"{s['quantity']} ({s['flipped']} flipped)"
+            print(f"{s['name']:<24} size {s['size']:<8} qty {qty}  "
                   f"area {s['area_m2']:.4f} m²  perimeter {s['perimeter_m']:.3f} m  "
-                  f"notches {s['notches']}  mirrored {'yes' if s['mirrored'] else 'no'}")
+                  f"notches {s['notches']}  mirror line {'yes' if s['mirrored'] else 'no'}")
         print(f"wrote {args.output}", file=sys.stderr)
     return 0
 
@@ -236,8 +238,9 @@ def register(top, groups) -> None:
                    help="units of the file when it does not say (overrides Units:/$INSUNITS)")
     p.add_argument("--markup", help="markup JSON: panel types, seams, fabric, placement")
     p.add_argument("--json", action="store_true",
-                   help="print the pieces as JSON: name, size, quantity, area_m2, perimeter_m, "
-                        "notches, mirrored")
+                   help="print the pieces as JSON: name, size, quantity, flipped (ASTM's "
+                        "mirrored copies), area_m2, perimeter_m, notches, mirrored (a mirror "
+                        "line)")
     p.add_argument("-o", "--output", required=True, help="garment JSON to write")
     p.set_defaults(func=_import)
 
