@@ -3,12 +3,11 @@
 import numpy as np
 import pytest
 
+from catwalk.cloth import builder as cloth
+from catwalk.cloth import model as model_mod
+from catwalk.cloth import solver as solver_mod
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import sphere
-
-cloth = pytest.importorskip("catwalk.cloth.builder")
-solver_mod = pytest.importorskip("catwalk.cloth.solver")
-model_mod = pytest.importorskip("catwalk.cloth.model")
 
 
 @pytest.mark.parametrize("mode", ["hybrid", "object"])

@@ -118,10 +118,10 @@ def test_place_panels_puts_pieces_round_the_body():
             assert np.linalg.norm(a - b, axis=1).max() < 1e-6
 
 
-@pytest.mark.skipif(not (ROOT / "freesewing" / "node_modules").is_dir()
-                    or shutil.which("node") is None,
-                    reason="FreeSewing packages not installed (npm ci in garments/freesewing)")
 def test_node_draft_reproduces_committed_drafts(tmp_path):
+    assert shutil.which("node") is not None, "node is not installed (make install)"
+    assert (ROOT / "freesewing" / "node_modules").is_dir(), \
+        "the FreeSewing packages are not installed (make install: npm ci in garments/freesewing)"
     res = subprocess.run(["node", str(ROOT / "freesewing" / "draft.mjs"), "--out", str(tmp_path),
                           "tshirt", "pencil-skirt"], capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr

@@ -6,8 +6,7 @@ import pytest
 
 from catwalk.body.types import Body
 from catwalk.cli import main
-
-gltf = pytest.importorskip("catwalk.exchange.gltf")
+from catwalk.exchange import gltf
 
 
 @pytest.fixture(scope="module")

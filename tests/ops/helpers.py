@@ -1,11 +1,5 @@
-"""Readers for the deployment files: compose.yaml, the Dockerfile and its .dockerignore.
-
-PyYAML is not one of catwalk's dependencies, so :func:`load_yaml` falls back to a reader of
-the small block-style subset ``docker/compose.yaml`` is written in (mappings, lists, plain,
-quoted and flow-list scalars, comments). Anything outside that subset (anchors, aliases,
-multi-line strings, flow mappings with content) is refused, never guessed; where PyYAML is
-installed the tests check that both readers agree.
-"""
+"""Readers for the deployment files: compose.yaml (PyYAML), the Dockerfile and its
+.dockerignore."""
 
 from __future__ import annotations
 
@@ -19,136 +13,9 @@ REPO = Path(__file__).resolve().parents[2]
 DOCKER = REPO / "docker"
 
 
-# ------------------------------------------------------------------------------ YAML
-
-class YamlSubsetError(ValueError):
-    pass
-
-
-def _strip_comment(line: str) -> str:
-    quote = None
-    for i, ch in enumerate(line):
-        if quote:
-            if ch == quote:
-                quote = None
-        elif ch in "\"'":
-            quote = ch
-        elif ch == "#" and (i == 0 or line[i - 1] in " \t"):
-            return line[:i].rstrip()
-    return line.rstrip()
-
-
-def _split_flow(text: str) -> list[str]:
-    items, cur, quote = [], "", None
-    for ch in text:
-        if quote:
-            cur += ch
-            if ch == quote:
-                quote = None
-        elif ch in "\"'":
-            quote = ch
-            cur += ch
-        elif ch == ",":
-            items.append(cur.strip())
-            cur = ""
-        else:
-            cur += ch
-    if cur.strip():
-        items.append(cur.strip())
-    return items
-
-
-def _scalar(text: str):
-    text = text.strip()
-    if text[:1] in ("&", "*", "|", ">", "!"):
-        raise YamlSubsetError(f"not in the YAML subset read without PyYAML: {text!r}")
-    if text.startswith('"'):
-        if not text.endswith('"') or len(text) < 2:
-            raise YamlSubsetError(f"unterminated string: {text!r}")
-        return json.loads(text)
-    if text.startswith("'"):
-        if not text.endswith("'") or len(text) < 2:
-            raise YamlSubsetError(f"unterminated string: {text!r}")
-        return text[1:-1].replace("''", "'")
-    if text.startswith("["):
-        if not text.endswith("]"):
-            raise YamlSubsetError(f"a flow list on several lines: {text!r}")
-        return [_scalar(t) for t in _split_flow(text[1:-1])]
-    if text.startswith("{"):
-        if text.replace(" ", "") != "{}":
-            raise YamlSubsetError(f"a flow mapping: {text!r}")
-        return {}
-    if text in ("", "~", "null", "Null", "NULL"):
-        return None
-    if text in ("true", "True", "TRUE"):
-        return True
-    if text in ("false", "False", "FALSE"):
-        return False
-    if re.fullmatch(r"[-+]?[0-9]+", text):
-        return int(text)
-    if re.fullmatch(r"[-+]?([0-9]+\.[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?", text):
-        return float(text)
-    return text
-
-
-_KEY = re.compile(r"""^("(?:[^"\\]|\\.)*"|'[^']*'|[^\s#'"][^:]*?)\s*:(?:\s+(.*))?$""")
-
-
-def _parse_block(lines: list[tuple[int, str]], i: int, indent: int):
-    if lines[i][1].startswith("- ") or lines[i][1] == "-":
-        out_list = []
-        while i < len(lines) and lines[i][0] == indent and (
-                lines[i][1].startswith("- ") or lines[i][1] == "-"):
-            item = lines[i][1][2:].strip()
-            if not item or _KEY.match(item) and not item.startswith(("[", '"', "'")):
-                raise YamlSubsetError(f"line {i}: only scalars as list items: {lines[i][1]!r}")
-            out_list.append(_scalar(item))
-            i += 1
-        return out_list, i
-    out: dict = {}
-    while i < len(lines) and lines[i][0] == indent:
-        m = _KEY.match(lines[i][1])
-        if not m:
-            raise YamlSubsetError(f"not a 'key: value' line: {lines[i][1]!r}")
-        key = _scalar(m.group(1))
-        if key in out:
-            raise YamlSubsetError(f"duplicate key {key!r}")
-        rest = (m.group(2) or "").strip()
-        i += 1
-        if rest:
-            out[key] = _scalar(rest)
-        elif i < len(lines) and (lines[i][0] > indent or (
-                lines[i][0] == indent and lines[i][1].startswith("- "))):
-            out[key], i = _parse_block(lines, i, lines[i][0])
-        else:
-            out[key] = None
-    return out, i
-
-
-def mini_yaml(text: str):
-    """Parse the block-style YAML subset described in the module's docstring."""
-    lines = []
-    for raw in text.splitlines():
-        if "\t" in raw[: len(raw) - len(raw.lstrip())]:
-            raise YamlSubsetError("tabs in indentation")
-        line = _strip_comment(raw)
-        if line.strip():
-            if line.strip() in ("---", "..."):
-                raise YamlSubsetError("several documents")
-            lines.append((len(line) - len(line.lstrip(" ")), line.strip()))
-    if not lines:
-        return None
-    value, i = _parse_block(lines, 0, lines[0][0])
-    if i != len(lines):
-        raise YamlSubsetError(f"unexpected indentation at {lines[i][1]!r}")
-    return value
-
-
 def load_yaml(path: Path):
-    try:
-        import yaml
-    except ModuleNotFoundError:
-        return mini_yaml(path.read_text())
+    import yaml  # pyyaml, pinned in the dev dependencies
+
     return yaml.safe_load(path.read_text())
 
 

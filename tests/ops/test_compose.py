@@ -17,7 +17,6 @@ from catwalk.config import Config
 from .helpers import (
     DOCKER,
     REPO,
-    YamlSubsetError,
     command,
     dockerfile,
     environment,
@@ -25,7 +24,6 @@ from .helpers import (
     ignored,
     interpolate,
     load_yaml,
-    mini_yaml,
 )
 
 COMPOSE = DOCKER / "compose.yaml"
@@ -65,27 +63,6 @@ def image_env(stages) -> dict[str, str]:
 def effective_env(service: dict, image_env: dict[str, str]) -> dict[str, str]:
     """What a container of the service sees: the image's ENV, then the service's own."""
     return {**image_env, **environment(service)}
-
-
-# ------------------------------------------------------------------------------ the reader
-
-def test_the_yaml_subset_reader_agrees_with_pyyaml():
-    text = COMPOSE.read_text()
-    ours = mini_yaml(text)   # compose.yaml stays within the subset read without PyYAML
-    try:
-        import yaml
-    except ModuleNotFoundError:
-        pytest.skip("PyYAML is not installed (pyyaml==6.0.3): the subset reader, which read "
-                    "compose.yaml, is not cross-checked")
-    assert ours == yaml.safe_load(text)
-
-
-def test_the_yaml_subset_reader_refuses_what_it_does_not_read():
-    for text in ("a: &x 1\nb: *x\n", "a: |\n  text\n", "a: {b: 1}\n", "a:\n  - b: 1\n"):
-        with pytest.raises(YamlSubsetError):
-            mini_yaml(text)
-    assert mini_yaml("a:\n  b: [\"x\", 'y', 3]  # c\n  c:\n  - '1'\n  d: {}\n") == \
-        {"a": {"b": ["x", "y", 3], "c": ["1"], "d": {}}}
 
 
 # ------------------------------------------------------------------------------ compose
