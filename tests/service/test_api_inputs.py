@@ -250,6 +250,11 @@ def test_the_pages_are_served_with_a_history_fallback(tmp_path, catalogue_dir):
         assert "not a page" not in c.get("/../secret.txt").text
         assert "not a page" not in c.get("/%2e%2e/secret.txt").text
         _error(c.get("/api/nope"), 404)
+        # only the pages' GET fallback matches these: the API's 404, not a 405 allowing nothing
+        _error(c.post("/api/nope", json={}), 404)
+        _error(c.delete("/garments/x"), 404)
+        r = c.delete("/api/garments")                          # a real route, another method
+        assert r.status_code == 405 and r.headers["allow"] == "GET", r.headers
         assert c.get("/api/garments").json()["garments"]        # the API still answers
         assert c.get("/openapi.json").json()["paths"]
         sizes = c.get("/api/garments/pencil-skirt/sizes", params={"body_id": "x" * 32})

@@ -50,25 +50,42 @@ def _scan_obj() -> bytes:
 
 @pytest.mark.parametrize("name", ["../../../escape.obj", "..\\..\\escape.obj",
                                   "/etc/escape.obj", "a/../../escape.obj", "%2e%2e/escape.obj"])
-def test_upload_file_names_cannot_climb_out_of_the_storage(client, storage, name, mpfb2):
-    outside = storage.parent
-    before = {p for p in outside.rglob("*") if storage not in p.parents and p != storage}
+def test_upload_file_names_cannot_climb_out_of_the_storage(client, storage, name, mpfb2,
+                                                          tmp_path_factory):
+    # every folder a climbing name could reach from the storage's (pytest's whole tree)
+    outside = tmp_path_factory.getbasetemp().parent
+
+    def beside():
+        return {p for p in outside.rglob("*escape*") if storage not in p.parents}
+
+    before = beside()
     r = client.post("/api/bodies", files={"scan": (name, _scan_obj(), "text/plain")})
     assert r.status_code == 201, r.text[:300]
-    after = {p for p in outside.rglob("*") if storage not in p.parents and p != storage}
-    assert after == before, after - before             # nothing beside the storage
+    assert beside() == before, beside() - before       # nothing written by that name
     assert not any("escape" in p.name for p in storage_files(storage))   # names not used
     assert "escape" not in r.text
 
 
-@pytest.mark.parametrize("path", ["/api/garments/..%2F..%2Fpyproject.toml",
-                                  "/api/garments/%2e%2e/thumbnail.png",
-                                  "/api/garments/..%2Fpencil-skirt/pattern.png",
-                                  "/api/bodies/..%2F..%2Fcatwalk.db/body.glb",
-                                  "/api/tryons/..%2F..%2Fresults/result.glb"])
-def test_ids_in_paths_cannot_name_files(client, path):
+@pytest.mark.parametrize("path,answer", [
+    # a slash in an id does not reach a route
+    ("/api/garments/..%2F..%2Fpyproject.toml", "no such route"),
+    ("/api/bodies/..%2F..%2Fcatwalk.sqlite3/body.glb", "no such route"),
+    ("/api/tryons/..%2F..%2Fresults/result.glb", "no such route"),
+    # ".." as the id itself reaches the route: an unknown id, never a path
+    ("/api/garments/%2e%2e/thumbnail.png", "no garment with id '..'"),
+    ("/api/garments/%2e%2e/pattern.png", "no garment with id '..'"),
+    ("/api/bodies/%2e%2e/body.glb", "no body"),
+    ("/api/tryons/%2e%2e/result.glb", "no try-on"),
+])
+def test_ids_in_paths_cannot_name_files(client, path, answer):
     err = _refused(client.get(path), 404)
-    assert "pyproject" not in err["message"] or "no such" in err["message"]
+    assert err["code"] == "not_found" and answer in err["message"], err
+
+
+def test_a_size_cannot_name_a_file(client):
+    err = _refused(client.get("/api/garments/pencil-skirt/pattern.png",
+                              params={"size": "../../../pyproject.toml"}), 422)
+    assert err["field"] == "size", err
 
 
 def test_a_body_id_cannot_be_guessed_or_listed(client):

@@ -30,6 +30,7 @@ import numpy as np
 
 from catwalk.errors import InputError
 from catwalk.exchange.source import read_source
+from catwalk.garment.check import MAX_PANEL_EXTENT
 from catwalk.garment.geometry import (
     Segment,
     flatten,
@@ -41,7 +42,6 @@ from catwalk.garment.model import Garment, Panel, Shape
 
 UNIT_SCALE = {"in": 0.0254, "mm": 0.001, "cm": 0.01, "m": 1.0, "ft": 0.3048}
 MAX_COORDINATE = 1000.0    # metres from the origin: pieces are laid out side by side
-MAX_PIECE_EXTENT = 3.0     # metres: catwalk.garment.check.MAX_PANEL_EXTENT
 MAX_QUANTITY = 20          # copies of one piece
 MAX_PIECES = 2000          # pieces (all sizes) in one file
 MAX_BYTES = 256 << 20      # a DXF file
@@ -221,35 +221,35 @@ def _to_segments(loop, where: str) -> list[Segment]:
 def _checked(verts, scale: float, where: str, what: str = "a boundary point"
              ) -> list[tuple[float, float, float]]:
     """(x, y, bulge) in metres, every number finite and every point within MAX_COORDINATE."""
-    out = []
-    for x, y, b in verts:
-        x, y, b = float(x) * scale, float(y) * scale, float(b)
-        if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(b)):
-            raise InputError(f"{where}: {what} (or its bulge) is not a finite number")
-        if abs(x) > MAX_COORDINATE or abs(y) > MAX_COORDINATE:
-            raise InputError(f"{where}: {what} lies {max(abs(x), abs(y)):.3g} m from the "
-                             "origin: not a pattern (are the units right?)")
-        out.append((x, y, b))
-    return out
+    try:
+        a = np.asarray(verts, dtype=float).reshape(-1, 3)
+    except (TypeError, ValueError):
+        raise InputError(f"{where}: {what} is not a number") from None
+    with np.errstate(all="ignore"):   # an overflow is reported as not finite, just below
+        a[:, :2] *= scale
+    if not np.isfinite(a).all():
+        raise InputError(f"{where}: {what} (or its bulge) is not a finite number")
+    far = float(np.abs(a[:, :2]).max()) if len(a) else 0.0
+    if far > MAX_COORDINATE:
+        raise InputError(f"{where}: {what} lies {far:.3g} m from the origin: not a pattern "
+                         "(are the units right?)")
+    return [tuple(p) for p in a.tolist()]
 
 
 def _loop_from(entities, scale: float, where: str, tol: float):
-    closed, runs = [], []
+    closed, runs, points = [], [], 0
     for e in entities:
         got = _polyline_vertices(e)
         if got is None:
             continue
         verts, is_closed = got
-        verts = _checked(verts, scale, where)
-        if is_closed:
-            closed.append(verts)
-        else:
-            runs.append(verts)
-    if len(closed) + len(runs) > MAX_RUNS:
-        raise InputError(f"{where}: {len(closed) + len(runs):,} boundary polylines; at most "
-                         f"{MAX_RUNS:,} are chained")
-    if sum(len(v) for v in closed + runs) > MAX_POINTS:
-        raise InputError(f"{where}: more than {MAX_POINTS:,} boundary points: too detailed")
+        points += len(verts)   # the caps before any conversion
+        if len(closed) + len(runs) >= MAX_RUNS:
+            raise InputError(f"{where}: more than {MAX_RUNS:,} boundary polylines: at most "
+                             f"{MAX_RUNS:,} are chained")
+        if points > MAX_POINTS:
+            raise InputError(f"{where}: more than {MAX_POINTS:,} boundary points: too detailed")
+        (closed if is_closed else runs).append(_checked(verts, scale, where))
     if closed and not runs:
         if len(closed) > 1:  # keep the largest; inner loops are cut-outs we do not model
             closed.sort(key=lambda v: -abs(polygon_area(np.array([p[:2] for p in v]))))
@@ -447,9 +447,9 @@ def _piece(ents, boundary_ents, texts, name, psize, bname, scale, where, qty: in
     segs = _to_segments(loop, where)
     pts = flatten(segs, 1e-4).points
     ext = float(np.ptp(pts, axis=0).max())
-    if ext > MAX_PIECE_EXTENT:
+    if ext > MAX_PANEL_EXTENT:
         raise InputError(f"{where}: the piece is {ext:.4g} m across (at most "
-                         f"{MAX_PIECE_EXTENT:g} m): not garment-sized — are the units right "
+                         f"{MAX_PANEL_EXTENT:g} m): not garment-sized — are the units right "
                          "(the file's 'Units:' text or $INSUNITS, or give the units)?")
     if abs(polygon_area(pts)) < 1e-6:
         raise InputError(f"{where}: the boundary encloses no area")

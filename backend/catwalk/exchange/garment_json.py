@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.exchange.source import MAX_JSON_BYTES, parse_json, read_source
+from catwalk.exchange.source import read_json
 from catwalk.fileio import atomic_path
 from catwalk.garment.geometry import KINDS, Segment
 from catwalk.garment.model import (
@@ -376,8 +376,7 @@ def load_garment(source, *, base_dir: str | Path | None = None) -> Garment:
         return garment_from_dict(source, where)
     if isinstance(source, (str, Path)) and not Path(source).is_file():
         raise InputError(f"{source}: no such garment file")
-    data, name = read_source(source, "garment", max_bytes=MAX_JSON_BYTES)
-    parsed = parse_json(data, name)
+    parsed, name = read_json(source, "garment")
     path = Path(source) if isinstance(source, (str, Path)) else (
         Path(base_dir) / Path(name).name if base_dir is not None else None)
     return garment_from_dict(parsed, path, name=name)

@@ -18,7 +18,8 @@ import time
 
 from locust import FastHttpUser, between, events, tag, task
 
-BODY = {"sex": "female", "height": 1.68, "bust": 0.90, "waist": 0.72, "hips": 0.98}
+from catwalk.loadtest.run import BODY
+
 STATE: dict = {"garments": [], "body": None, "done": None, "asked": [], "started": None}
 GARMENT = os.environ.get("CATWALK_LOADTEST_GARMENT", "pencil-skirt")
 
@@ -98,11 +99,15 @@ class Shopper(FastHttpUser):
     def status(self):
         self.client.get(f"/api/tryons/{STATE['done']}", name="/api/tryons/{id}")
 
+    def _ask(self, name: str, seconds: float):
+        """POST /api/tryons for the prepared body (fast preset), checked by the caller."""
+        return self.client.post("/api/tryons", name=name, catch_response=True,
+                                json={"body_id": STATE["body"], "garment_id": GARMENT,
+                                      "preset": "fast", "seconds": seconds})
+
     @task(5)
     def cached_tryon(self):
-        with self.client.post("/api/tryons", name="/api/tryons (cached)", catch_response=True,
-                              json={"body_id": STATE["body"], "garment_id": GARMENT,
-                                    "preset": "fast", "seconds": 0.5}) as r:
+        with self._ask("/api/tryons (cached)", 0.5) as r:   # the prepared try-on's settings
             if r.status_code != 200 or not r.json().get("cached"):
                 r.failure(f"not answered from the cache: {r.status_code}")
 
@@ -114,9 +119,7 @@ class Shopper(FastHttpUser):
     @task(1)
     def new_tryon(self):
         seconds = round(random.uniform(0.5, 1.0), 3)   # a new content key: a worker simulates
-        with self.client.post("/api/tryons", name="/api/tryons (new)", catch_response=True,
-                              json={"body_id": STATE["body"], "garment_id": GARMENT,
-                                    "preset": "fast", "seconds": seconds}) as r:
+        with self._ask("/api/tryons (new)", seconds) as r:
             if r.status_code in (200, 202):
                 STATE["asked"].append(r.json()["id"])
             else:

@@ -208,18 +208,7 @@ def image_format(path, flag: str = "-o") -> str:
 def save_image(image, path, flag: str | None = None) -> None:
     """Write an ``(H, W, 3)`` or ``(H, W)`` uint8 image, atomically, as PNG or JPEG by the
     file's extension (:func:`image_format`)."""
-    fmt = image_format(path, flag or "image")
-    if fmt == "PNG":
-        save_png(image, path, flag)
-        return
-    from PIL import Image
-
-    a = _image_array(image)
-    with atomic_path(path, flag) as tmp:
-        Image.fromarray(a[..., :3] if a.ndim == 3 else a).save(tmp, format="JPEG", quality=92)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
+    _save(image, path, flag, image_format(path, flag or "image"))
 
 
 def _image_array(image) -> np.ndarray:
@@ -231,12 +220,16 @@ def _image_array(image) -> np.ndarray:
 
 def save_png(image, path, flag: str | None = None) -> None:
     """Write an ``(H, W, 3)`` or ``(H, W)`` uint8 image as PNG, atomically."""
+    _save(image, path, flag, "PNG")
+
+
+def _save(image, path, flag: str | None, fmt: str) -> None:
+    """``image`` written atomically (:func:`atomic_path`) as ``fmt``: PNG, or JPEG (no alpha,
+    quality 92)."""
     from PIL import Image
 
     a = _image_array(image)
+    if fmt == "JPEG" and a.ndim == 3:
+        a = a[..., :3]
     with atomic_path(path, flag) as tmp:
-        Image.fromarray(a).save(tmp, format="PNG")
-        # the temporary file is created 0600; give the image the usual permissions
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
+        Image.fromarray(a).save(tmp, format=fmt, **({"quality": 92} if fmt == "JPEG" else {}))

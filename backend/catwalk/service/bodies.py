@@ -130,6 +130,12 @@ class BodyMaker:
             except (concurrent.futures.process.BrokenProcessPool,
                     concurrent.futures.CancelledError):
                 self._reset(pool)          # another request's reset, or a crash: try again
+            except asyncio.CancelledError:
+                # the pool's future cancelled by another request's reset reaches this await as
+                # asyncio's CancelledError: try again, unless this request itself is cancelled
+                task = asyncio.current_task()
+                if not fut.cancelled() or (task is not None and task.cancelling()):
+                    raise
         raise TimeoutError("the body pool kept failing")
 
     def _reset(self, pool) -> None:

@@ -96,11 +96,17 @@ class Catalogue:
                                    [own] + [f for f in fabrics if f != own])
         return out
 
-    def entries(self) -> dict[str, Entry]:
+    def fresh(self) -> dict[str, Entry] | None:
+        """The garments if the folder was looked at less than a second ago, else None (then
+        :meth:`entries`, in a thread: it may read files). For ``async`` routes."""
+        return self._entries if time.monotonic() - self._checked < CHECK_EVERY_S else None
+
+    def entries(self, *, recheck: bool = False) -> dict[str, Entry]:
         """The garments, read again when a file changed: the folder is looked at once a second
-        at most (a glob and two stats a file cost more than the rest of a catalogue route)."""
+        at most (a glob and two stats a file cost more than the rest of a catalogue route);
+        ``recheck``: now."""
         now = time.monotonic()
-        if now - self._checked < CHECK_EVERY_S:
+        if not recheck and now - self._checked < CHECK_EVERY_S:
             return self._entries
         stamp = self._current_stamp()
         self._checked = now
@@ -113,14 +119,14 @@ class Catalogue:
     def listing(self) -> list[dict]:
         """Every garment's summary (``GET /api/garments``), made again only when a file
         changed."""
-        entries = self.entries()
-        with self._lock:
+        self.entries()
+        with self._lock:   # from the entries the listing belongs to (a reload may have come)
             if self._listing is None:
-                self._listing = [e.summary() for e in entries.values()]
+                self._listing = [e.summary() for e in self._entries.values()]
             return self._listing
 
-    def get(self, garment_id: str) -> Entry:
-        entry = self.entries().get(garment_id)
+    def get(self, garment_id: str, *, recheck: bool = False) -> Entry:
+        entry = self.entries(recheck=recheck).get(garment_id)
         if entry is None:
             raise InputError(f"no garment {garment_id!r} in the catalogue", "garment_id")
         return entry

@@ -170,6 +170,8 @@ def _execute(config: Config, row, beat: Beat) -> str:
     if storage.result_file(row.key, "metrics.json").is_file():
         return _finish_stored(config, row, storage, beat)   # an earlier attempt stored it
     entry = _catalogue(config).get(row.garment_id)
+    if entry.version != row.garment_version:   # changed within the last second? look again
+        entry = _catalogue(config).get(row.garment_id, recheck=True)
     if entry.version != row.garment_version:
         raise InputError(f"garment {row.garment_id!r} has changed since this try-on was asked "
                          "for; ask for it again", "garment_id")

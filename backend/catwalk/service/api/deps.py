@@ -5,6 +5,8 @@ dependency per request; these only read the app's state."""
 
 from __future__ import annotations
 
+import asyncio
+
 from fastapi import Request
 
 from catwalk.config import Config
@@ -21,7 +23,13 @@ async def storage(request: Request) -> Storage:
 
 
 async def catalogue(request: Request) -> Catalogue:
-    return request.app.state.catalogue
+    """The catalogue, its folder looked at within the last second: when a look is due it is
+    taken in a thread (a glob, stats, and reading a changed garment stay off the event loop),
+    so the route's own reads are answered from memory."""
+    cat = request.app.state.catalogue
+    if cat.fresh() is None:
+        await asyncio.to_thread(cat.entries)
+    return cat
 
 
 async def json_body(request: Request) -> None:

@@ -79,20 +79,26 @@ def _path(request: Request) -> str:
     return _printable(request.url.path, 200)
 
 
+METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
+
+
 def allowed_methods(request: Request) -> list[str]:
     """Every method some route answers on this request's path (Starlette names only the first
-    route's in a 405's ``Allow``: ``GET`` where ``DELETE`` is allowed too)."""
+    route's in a 405's ``Allow``: ``GET`` where ``DELETE`` is allowed too). Each method is
+    tried against the routes (FastAPI nests included routers), the pages' GET fallback
+    left out."""
     from starlette.routing import Match
 
-    scope = {**request.scope, "method": "GET"}
-    methods: set[str] = set()
-    for route in request.app.router.routes:
-        if getattr(route, "path", None) == "/{path:path}":   # the pages' fallback
-            continue
-        match, _ = route.matches(scope)
-        if match is not Match.NONE:
-            methods |= set(getattr(route, "methods", None) or ())
-    return sorted(methods)
+    allowed = []
+    for method in METHODS:
+        scope = {**request.scope, "method": method}
+        for route in request.app.router.routes:
+            match, child = route.matches(scope)
+            path = getattr(child.get("route", route), "path", None)
+            if match is Match.FULL and path != "/{path:path}":
+                allowed.append(method)
+                break
+    return allowed
 
 
 def _field(loc) -> str | None:
@@ -125,14 +131,17 @@ def install(app: FastAPI) -> None:
     async def _http(request: Request, exc: StarletteHTTPException):
         msg = exc.detail if isinstance(exc.detail, str) else "request refused"
         headers = getattr(exc, "headers", None)
-        if exc.status_code == 404 and msg == "Not Found":
+        status = exc.status_code
+        allow = allowed_methods(request) if status == 405 else []
+        if status == 405 and not allow:   # only the pages' GET fallback matched the path
+            status, msg = 404, "Not Found"
+        if status == 404 and msg == "Not Found":
             msg = f"no such route: {request.method} {_path(request)}"
-        elif exc.status_code == 405:
-            allow = allowed_methods(request)
+        elif status == 405:
             headers = {**(headers or {}), "Allow": ", ".join(allow)}
             msg = (f"{_printable(request.method, 20)} is not allowed on {_path(request)}; "
                    f"allowed: {', '.join(allow)}")
-        return _json(exc.status_code, error_body(exc.status_code, msg), headers)
+        return _json(status, error_body(status, msg), headers)
 
     @app.exception_handler(DBAPIError)
     async def _database_away(request: Request, exc: DBAPIError):

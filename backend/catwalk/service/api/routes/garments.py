@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import functools
 
 from fastapi import APIRouter, Depends, Query, Request
 from fastapi.responses import Response
@@ -108,13 +109,25 @@ async def pattern(garment_id: schemas.GarmentId, request: Request, size: str | N
     return Response(png, media_type="image/png", headers=headers)
 
 
+def _recipes(path) -> list[dict]:
+    """The sample bodies' recipes, read once per change of the file (not per request)."""
+    st = path.stat()
+    return _recipes_of(path, st.st_mtime_ns, st.st_size)
+
+
+@functools.lru_cache(maxsize=4)
+def _recipes_of(path, _mtime_ns: int, _size: int) -> list[dict]:
+    from catwalk.body.commands import load_recipes
+
+    return load_recipes(path)
+
+
 @router.get("/{garment_id}/sizes", response_model=schemas.SizeAdvice,
             responses=schemas.errors(404, 422, 503))
 def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
           config=Depends(deps.config), catalogue=Depends(deps.catalogue)) -> dict:
     """Size advice: each size's chart (the sample body it was made for) against the body's
     girths, the ease (chart − body, metres), whether it fits, and the size recommended."""
-    from catwalk.body.commands import load_recipes
     from catwalk.service import db
     from catwalk.service.api.errors import check_id
     from catwalk.service.models import BodyRow
@@ -127,5 +140,5 @@ def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
     if body is None:
         raise not_found("body", body_id, "body_id")
     girths = {k: v for k, v in (body.measurements or {}).items() if not k.startswith("_")}
-    out = advise(entry.garment, girths, load_recipes(config.bodies_dir / "recipes.json"))
+    out = advise(entry.garment, girths, _recipes(config.bodies_dir / "recipes.json"))
     return {"garment_id": entry.id, "body_id": body_id, **out}

@@ -26,13 +26,17 @@ log = logging.getLogger("catwalk.api")
 EVENT_POLL_S = 0.25
 
 
-def _view(config: Config, row: TryOnRow) -> dict:
+def _with_metrics(s, row: TryOnRow) -> dict:
+    """The try-on's JSON; a done one with its result's metrics (read in session ``s``)."""
     out = jobs.view(row)
-    if row.status == "done":
-        res = jobs.result(config, row.key)
-        if res is not None:
-            out["metrics"] = res.metrics
+    if row.status == "done" and (res := s.get(ResultRow, row.key)) is not None:
+        out["metrics"] = res.metrics
     return out
+
+
+def _view(config: Config, row: TryOnRow) -> dict:
+    with db.session(config) as s:
+        return _with_metrics(s, row)
 
 
 def _view_of(config: Config, job_id: str) -> dict:
@@ -42,12 +46,7 @@ def _view_of(config: Config, job_id: str) -> dict:
         row = s.get(TryOnRow, job_id)
         if row is None:
             raise not_found("try-on", job_id)
-        out = jobs.view(row)
-        if row.status == "done":
-            res = s.get(ResultRow, row.key)
-            if res is not None:
-                out["metrics"] = res.metrics
-    return out
+        return _with_metrics(s, row)
 
 
 def _job(config: Config, job_id: str) -> TryOnRow:

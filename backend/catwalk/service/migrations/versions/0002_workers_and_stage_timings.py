@@ -28,6 +28,13 @@ def upgrade() -> None:
     with op.batch_alter_table("tryons") as batch:
         batch.add_column(sa.Column("timings", sa.JSON, nullable=True))
     op.create_index("ix_tryons_finished", "tryons", ["finished_at"])
+    # before the index: a database of 0001 may hold two active rows for one body and key (two
+    # requests at once were not yet kept apart); all but the first of each are cancelled
+    op.execute("UPDATE tryons SET status = 'cancelled', stage = 'cancelled', "
+               "finished_at = CURRENT_TIMESTAMP "
+               "WHERE status IN ('queued', 'running') AND id NOT IN ("
+               "SELECT MIN(id) FROM tryons WHERE status IN ('queued', 'running') "
+               "GROUP BY body_id, key)")
     active = sa.text("status IN ('queued', 'running')")
     op.create_index("ux_tryons_active", "tryons", ["body_id", "key"], unique=True,
                     postgresql_where=active, sqlite_where=active)

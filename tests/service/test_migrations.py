@@ -1,0 +1,72 @@
+"""The schema's migrations on data an older version left: 0001 → head on SQLite and PostgreSQL
+with two active try-ons of one body and key (possible before 0002's unique index): the upgrade
+keeps the first, cancels the others and succeeds."""
+
+from __future__ import annotations
+
+import datetime
+import uuid
+
+import pytest
+import sqlalchemy as sa
+
+from .helpers import DB_URL
+
+
+def _upgrade(engine, revision: str) -> None:
+    from alembic import command
+    from alembic.config import Config as AlembicConfig
+
+    from catwalk.service.db import MIGRATIONS
+
+    with engine.begin() as conn:
+        cfg = AlembicConfig()
+        cfg.set_main_option("script_location", str(MIGRATIONS))
+        cfg.set_main_option("path_separator", "os")
+        cfg.attributes["connection"] = conn
+        command.upgrade(cfg, revision)
+
+
+def _filled(table, **given) -> dict:
+    """``given``, and a plain value for every other column that needs one."""
+    plain = {str: "x", int: 0, float: 0.0, bool: False, dict: {},
+             datetime.datetime: datetime.datetime(2026, 1, 1)}
+    return {c.name: given.get(c.name, plain.get(c.type.python_type)) for c in table.columns
+            if c.name in given or not c.nullable}
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def engine(request, tmp_path):
+    if request.param == "sqlite":
+        yield sa.create_engine(f"sqlite:///{tmp_path / 'old.sqlite3'}")
+        return
+    import psycopg
+
+    name = f"catwalk_migrate_{uuid.uuid4().hex[:10]}"
+    plain = DB_URL.replace("+psycopg", "")
+    with psycopg.connect(plain, autocommit=True, connect_timeout=5) as c:
+        c.execute(f'CREATE DATABASE "{name}"')
+    eng = sa.create_engine(f"{DB_URL.rpartition('/')[0]}/{name}")
+    yield eng
+    eng.dispose()
+    with psycopg.connect(plain, autocommit=True) as c:
+        c.execute(f'DROP DATABASE IF EXISTS "{name}"')
+
+
+def test_duplicate_active_tryons_are_cancelled_before_the_unique_index(engine):
+    _upgrade(engine, "0001")
+    meta = sa.MetaData()
+    tryons = sa.Table("tryons", meta, autoload_with=engine)
+    bodies = sa.Table("bodies", meta, autoload_with=engine)
+    with engine.begin() as c:
+        c.execute(bodies.insert().values(**_filled(bodies, id="B1")))
+        for i, status in enumerate(["queued", "running", "queued", "done"]):
+            c.execute(tryons.insert().values(**_filled(tryons, id=f"J{i}", body_id="B1",
+                                                       key="K", status=status)))
+    _upgrade(engine, "head")
+    with engine.connect() as c:
+        got = dict(c.execute(sa.select(tryons.c.id, tryons.c.status)).all())
+    assert got == {"J0": "queued", "J1": "cancelled", "J2": "cancelled", "J3": "done"}
+    with pytest.raises(sa.exc.IntegrityError), engine.begin() as c:   # the index holds now
+        c.execute(tryons.insert().values(**_filled(tryons, id="J9", body_id="B1", key="K",
+                                                   status="queued")))
