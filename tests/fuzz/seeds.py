@@ -93,26 +93,6 @@ def garments() -> list[bytes]:
     return [p.read_bytes() for p in sorted(GARMENTS.glob("*.json"))]
 
 
-SKIRT_MARKUP = {
-    "name": "Test skirt", "type": "skirt", "fabric": "denim", "default_size": "M",
-    "panels": {
-        "FRONT": {"name": "front", "type": "skirt",
-                  "placement": {"part": "legs", "side": "front", "anchor": "waist"}},
-        "BACK": {"name": "back_left", "type": "skirt",
-                 "placement": {"part": "legs", "side": "back", "anchor": "waist"},
-                 "copies": [{"name": "back_right", "mirror": True,
-                             "placement": {"part": "legs", "side": "back"}}]},
-    },
-    "seams": [
-        {"name": "side left", "a": {"panel": "front", "start": 1, "end": 2},
-         "b": {"panel": "BACK", "start": {"point": [0.0, 0.6096]}, "end": 0},
-         "reverse": True},
-        {"name": "side right", "a": {"panel": "front", "start": 1, "end": 2, "half": "mirror"},
-         "b": {"panel": "back_right", "start": 4, "end": 0}, "reverse": True},
-        {"name": "centre back", "a": {"panel": "back_left", "start": 1, "end": 2},
-         "b": {"panel": "back_right", "start": 1, "end": 2}, "reverse": False},
-    ],
-}
 
 
 @cache
@@ -124,7 +104,8 @@ def markups() -> list[tuple[bytes, str]]:
         if draft.is_file():
             out.append((m.read_bytes(), str(draft)))
     dxfs()
-    out.append((json.dumps(SKIRT_MARKUP).encode(), str(WORK / "gerber.dxf")))
+    markup = _module(TESTS / "garment" / "dxf_fixtures.py").SKIRT_MARKUP
+    out.append((json.dumps(markup).encode(), str(WORK / "gerber.dxf")))
     return out
 
 

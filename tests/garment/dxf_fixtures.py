@@ -37,25 +37,31 @@ def _block(doc, name, piece, size, qty, outline, *, style, grain=None, notches=(
 
 
 def write_pattern(path, *, style="gerber", units="ENGLISH", sizes=("S", "M", "L"),
-                  extra_pieces=(), drop_units=False, back_qty=2):
+                  extra_pieces=(), drop_units=False, back_qty=2, width=10.0, taper=0.0):
     """A two-piece skirt (front cut on fold, back with quantity ``back_qty``: 2, or ASTM's
     "1,1") in ``sizes``; ``extra_pieces``: (block, piece, size, outline[, quantity]).
 
-    Units ENGLISH: inches; METRIC: millimetres. Front: a half panel 10 × 24 in (+ 0.5 per
-    size step) with a mirror line along its left edge; back: 20 × 24 in rectangle, 2 notches."""
+    Units ENGLISH: inches; METRIC: millimetres. Front: a half panel ``width`` × 24 in (+ 0.5
+    per size step) with a mirror line along its left edge; back: twice as wide, 2 notches. Each
+    side comes in by ``taper`` inches at the top (the waist): 0, rectangles (a 152 cm waist:
+    too wide to stay up on a body); ``width=7.87, taper=2.63``: an A-line skirt of 120 cm hem
+    and 80 cm waist in size M."""
     doc = ezdxf.new("R12")
     k = 1.0 if units == "ENGLISH" else 25.4
+    d = taper * k
     x = 0.0
     for i, size in enumerate(sizes):
-        w = (10.0 + 0.5 * i) * k
+        w = (width + 0.5 * i) * k
         h = 24.0 * k
-        front = _rect(w, h)
+        front = [(0.0, 0.0), (w, 0.0), (w - d, h), (0.0, h)]
+        notch = 10 * d / 24   # the side's inset 10 in up
         _block(doc, f"FRONT_{size}", "FRONT", size, 1, front, style=style,
-               grain=((w / 2, 2 * k), (w / 2, 20 * k)), notches=[(w, 10 * k)],
+               grain=((w / 2, 2 * k), (w / 2, 20 * k)), notches=[(w - notch, 10 * k)],
                mirror=((0.0, 0.0), (0.0, h)))
-        back = [(0.0, 0.0), (2 * w, 0.0), (2 * w, h), (w, h + 0.5 * k), (0.0, h)]
+        back = [(0.0, 0.0), (2 * w, 0.0), (2 * w - d, h), (w, h + 0.5 * k), (d, h)]
         _block(doc, f"BACK_{size}", "BACK", size, back_qty, back, style=style,
-               grain=((w, 2 * k), (w, 20 * k)), notches=[(0.0, 10 * k), (2 * w, 10 * k)],
+               grain=((w, 2 * k), (w, 20 * k)),
+               notches=[(notch, 10 * k), (2 * w - notch, 10 * k)],
                texts_upper=(style == "clo"))
         for name in (f"FRONT_{size}", f"BACK_{size}"):
             doc.modelspace().add_blockref(name, (x, 0.0))
@@ -83,3 +89,29 @@ def write_plain(path, insunits=6):
                        close=True, dxfattribs={"layer": "CUT"})
     doc.saveas(path)
     return path
+
+
+# the markup of write_pattern's skirt: types, placement, a mirrored back copy, three seams
+SKIRT_MARKUP = {
+    "name": "Test skirt", "type": "skirt", "fabric": "denim", "default_size": "M",
+    "panels": {
+        "FRONT": {"name": "front", "type": "skirt",
+                  "placement": {"part": "legs", "side": "front", "anchor": "waist",
+                                "anchor_vertex": 3}},
+        "BACK": {"name": "back_left", "type": "skirt",
+                 "placement": {"part": "legs", "side": "back", "anchor": "waist",
+                               "anchor_vertex": 3},
+                 "copies": [{"name": "back_right", "mirror": True,
+                             "placement": {"part": "legs", "side": "back", "anchor": "waist",
+                                           "anchor_vertex": 3}}]},
+    },
+    "seams": [
+        {"name": "side left", "a": {"panel": "front", "start": 1, "end": 2},
+         "b": {"panel": "BACK", "start": {"point": [0.0, 0.6096]}, "end": 0},
+         "reverse": True},
+        {"name": "side right", "a": {"panel": "front", "start": 1, "end": 2, "half": "mirror"},
+         "b": {"panel": "back_right", "start": 4, "end": 0}, "reverse": True},
+        {"name": "centre back", "a": {"panel": "back_left", "start": 1, "end": 2},
+         "b": {"panel": "back_right", "start": 1, "end": 2}, "reverse": False},
+    ],
+}

@@ -1,13 +1,15 @@
+import copy
 import json
 
 import pytest
 
+from catwalk.errors import InputError
 from catwalk.exchange.dxf import read_dxf
 from catwalk.exchange.garment_json import load_garment
 from catwalk.garment.check import check_garment
 from catwalk.garment.model import cut_pieces
 
-from .dxf_fixtures import write_pattern, write_plain
+from .dxf_fixtures import SKIRT_MARKUP, write_pattern, write_plain
 from .helpers import cli
 
 IN2 = 0.0254 ** 2
@@ -33,29 +35,7 @@ def test_aama_pieces_sizes_areas(tmp_path, style, units):
 
 def test_import_cli_json_and_markup(tmp_path, capsys):
     dxf = write_pattern(tmp_path / "skirt.dxf")
-    markup = {
-        "name": "Test skirt", "type": "skirt", "fabric": "denim", "default_size": "M",
-        "panels": {
-            "FRONT": {"name": "front", "type": "skirt",
-                      "placement": {"part": "legs", "side": "front", "anchor": "waist"}},
-            "BACK": {"name": "back_left", "type": "skirt",
-                     "placement": {"part": "legs", "side": "back", "anchor": "waist"},
-                     "copies": [{"name": "back_right", "mirror": True,
-                                 "placement": {"part": "legs", "side": "back"}}]},
-        },
-        "seams": [
-            # front side (x = w) ↔ back_left side (x = 0), vertices by number and by point
-            {"name": "side left", "a": {"panel": "front", "start": 1, "end": 2},
-             "b": {"panel": "BACK", "start": {"point": [0.0, 0.6096]}, "end": {"notch": 0}},
-             "reverse": True},
-            {"name": "side right", "a": {"panel": "front", "start": 1, "end": 2, "half": "mirror"},
-             "b": {"panel": "back_right", "start": 4, "end": 0}, "reverse": True},
-            {"name": "centre back", "a": {"panel": "back_left", "start": 1, "end": 2},
-             "b": {"panel": "back_right", "start": 1, "end": 2}, "reverse": False},
-        ],
-    }
-    # the notch is half-way up the side, so "end": {"notch": 0} is no vertex: use vertex 0
-    markup["seams"][0]["b"]["end"] = 0
+    markup = copy.deepcopy(SKIRT_MARKUP)
     (tmp_path / "markup.json").write_text(json.dumps(markup))
     out = tmp_path / "skirt.json"
     code, stdout, err = cli(["garment", "import", str(dxf), "--markup",
@@ -259,3 +239,28 @@ def test_bad_astm_quantities_are_refused(tmp_path, qty, message):
     with pytest.raises(InputError, match=message) as caught:
         read_dxf(path)
     assert "piece 'BACK'" in str(caught.value) and f"Quantity: {qty}" in str(caught.value)
+
+
+def test_a_metric_file_labelled_english_is_refused_as_not_garment_sized(tmp_path):
+    """Millimetres read as inches make 15 m pieces: refused, the units named as the cause."""
+    path = write_pattern(tmp_path / "metric.dxf", style="clo", units="METRIC")
+    path.write_bytes(path.read_bytes().replace(b"Units: METRIC", b"Units: ENGLISH"))
+    with pytest.raises(InputError, match=r"not garment-sized .* units right"):
+        read_dxf(path)
+    assert len(read_dxf(path, units="mm")[0]) == 6   # the right units given: read
+
+
+@pytest.mark.parametrize("bad", ["nan", "inf", "-inf", "1e400"])
+def test_a_coordinate_that_is_not_finite_is_refused(tmp_path, bad):
+    import ezdxf
+
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 6
+    doc.modelspace().add_lwpolyline([(0, 0), (0.5, 0), (0.5, 0.7), (0, 0.7)], close=True)
+    doc.saveas(tmp_path / "p.dxf")
+    text = (tmp_path / "p.dxf").read_text()
+    at = text.index("LWPOLYLINE")   # the second vertex's x (0.5) written as the bad number
+    text = text[:at] + text[at:].replace("\n 10\n0.5\n", f"\n 10\n{bad}\n", 1)
+    (tmp_path / "p.dxf").write_text(text)
+    with pytest.raises(InputError, match="finite|not a number|not readable|damaged"):
+        read_dxf(tmp_path / "p.dxf")

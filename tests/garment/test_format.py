@@ -297,3 +297,34 @@ def test_edit_mirror_keeps_the_garment_sewing_the_same(tmp_path, capsys):
     code, _, err = cli(["garment", "edit", str(src), "--panel", "back_left", "--rotate", "5",
                         "-o", str(tmp_path / "c.json")], capsys)
     assert code == 2 and "is a copy of 'back_right'" in err
+
+
+def test_every_problem_at_once_as_structured_problems(tmp_path):
+    """An outline error on one panel does not hide a seam's problem between two others; the
+    reader, told to, lists a seam naming no panel instead of stopping at it; each problem
+    names its panel, edge, seam and size."""
+    g = tube()
+    g.panels.append(Panel("pocket", "pocket", {"M": Shape(rect(0.1, 0.1))}))
+    g.panels.append(Panel("flap", "pocket", {"M": Shape(rect(0.1, 0.12))}))
+    g.seams.append(Seam(SeamSide("pocket", 0, 1), SeamSide("flap", 2, 3), name="flap seam"))
+    g.seams.append(Seam(SeamSide("pocket", 1, 2), SeamSide("front", 2, 3), name="pocket top"))
+    d = garment_to_dict(g)
+    d["panels"][1]["shapes"]["M"]["outline"][2]["end"] = [0.0, 0.75]   # back: not closed
+    d["panels"][2]["shapes"]["M"]["outline"][3] = {"type": "line", "start": [0.0, 0.1]}
+    d["seams"].append({"name": "ghost", "a": {"panel": "sleeve", "start": 0, "end": 1},
+                       "b": {"panel": "front", "start": 0, "end": 1}})
+    with pytest.raises(InputError, match="no panel named 'sleeve'"):
+        garment_from_dict(d)
+    problems: list[str] = []
+    g2 = garment_from_dict(d, problems=problems)
+    assert problems == ["garment: seam 4, side a: no panel named 'sleeve'"]
+    rep = check_garment(g2, tmp_path)
+    got = rep.problems()
+    unclosed = next(p for p in got if "not closed" in p["message"])
+    assert {k: unclosed[k] for k in ("panel", "edge", "size")} == \
+        {"panel": "back", "edge": 2, "size": "M"}
+    # the seams between sound panels are still checked: the pocket's top (0.1 m) against
+    # the front's (0.5 m)
+    top = next(p for p in got if "lengths differ" in p["message"])
+    assert top["seam"] == 3 and top["panel"] == "pocket" and top["edge"] == 1
+    assert all(p["message"] in rep.errors for p in got)

@@ -29,6 +29,17 @@ def one_garment_catalogue(dest: Path) -> Path:
     return dest
 
 
+def dxf_fixtures():
+    """tests/garment/dxf_fixtures.py (DXF patterns written as Gerber and CLO export them)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "dxf_fixtures", REPO / "tests" / "garment" / "dxf_fixtures.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))

@@ -235,9 +235,11 @@ def _side(raw, where: str) -> SeamSide:
 
 
 def garment_from_dict(data: dict, path: str | Path | None = None, *,
-                      name: str | None = None) -> Garment:
+                      name: str | None = None, problems: list[str] | None = None) -> Garment:
     """A garment from its parsed JSON. ``path``: the file it came from (textures are relative
-    to its folder); ``name``: how messages call it (default: the path, or "garment")."""
+    to its folder); ``name``: how messages call it (default: the path, or "garment");
+    ``problems``: where a seam naming no panel is reported (and left out) instead of raised,
+    so that the checker can list it beside the garment's other problems."""
     from catwalk.exchange.source import check_depth
 
     src = name or (f"{path}" if path else "garment")
@@ -341,9 +343,13 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
             raise InputError(f"{w}: a seam is {{\"a\": side, \"b\": side, \"reverse\": bool}}")
         a = _side(rs["a"], f"{w}, side a")
         b = _side(rs["b"], f"{w}, side b")
-        for side, lab in ((a, "a"), (b, "b")):
-            if side.panel not in names:
-                raise InputError(f"{w}, side {lab}: no panel named {side.panel!r}")
+        unknown = [f"{w}, side {lab}: no panel named {side.panel!r}"
+                   for side, lab in ((a, "a"), (b, "b")) if side.panel not in names]
+        if unknown and problems is None:
+            raise InputError(unknown[0])
+        if unknown:
+            problems.extend(unknown)
+            continue
         ease = _num(rs.get("ease", 0.0), f"{w}: ease", 0.0)
         if ease >= 1.0:
             raise InputError(f"{w}: ease is a fraction in [0, 1), got {ease!r}")

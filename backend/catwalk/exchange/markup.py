@@ -83,6 +83,13 @@ def apply_markup(g: Garment, markup: dict, where: str = "markup") -> Garment:
             raise InputError(f"{where}: default_size {markup['default_size']!r} is not one of "
                              f"the pattern's sizes ({', '.join(g.sizes)})")
         g.default_size = markup["default_size"]
+    if "fit" in markup:
+        fit = _obj(markup["fit"], f"{where}: fit", "an object mapping sizes to sample bodies")
+        for size, sample in fit.items():
+            if size not in g.sizes or not isinstance(sample, str):
+                raise InputError(f"{where}: fit maps the pattern's sizes ({', '.join(g.sizes)})"
+                                 f" to sample-body names (bodies/recipes.json), got {size!r}")
+        g.fit = dict(fit)
     pieces = {p.name: p for p in g.panels if p.copy_of is None}
     renames: dict[str, str] = {}
     raw_panels = markup.get("panels", {})

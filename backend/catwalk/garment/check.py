@@ -17,7 +17,9 @@ seams; fabric presets known (or custom fabrics complete); texture images present
 
 from __future__ import annotations
 
+import contextlib
 import math
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -74,9 +76,40 @@ class Report:
     def ok(self) -> bool:
         return not self.errors
 
+    def problems(self) -> list[dict]:
+        """The errors as ``{"panel"?, "edge"?, "seam"?, "size"?, "message"}``."""
+        return [problem(m) for m in self.errors]
+
     def as_dict(self) -> dict:
         return {"garment": self.garment, "ok": self.ok, "errors": self.errors,
-                "warnings": self.warnings, "panels": self.panels, "seams": self.seams}
+                "problems": self.problems(), "warnings": self.warnings,
+                "panels": self.panels, "seams": self.seams}
+
+
+_PANEL = re.compile(r"""panel(?:\(s\))?(?: named)? ('(?:[^'\\]|\\.)*'|"(?:[^"\\]|\\.)*")""")
+_EDGE = re.compile(r"\b(?:fold )?edges? (\d+)")
+_SEAM = re.compile(r"\bseam (\d+)")
+_SIZE = re.compile(r"\(size ([^)]+)\)|\bsize (\S+?):")
+
+
+def problem(message: str) -> dict:
+    """A message of the checker (or the garment reader) with what it names picked out: the
+    first panel (``panel 'front'``), the first edge, the seam's number and the size. Every
+    message names its panel and edge in these words (the checker's own formats)."""
+    import ast
+
+    out: dict = {}
+    if m := _PANEL.search(message):
+        with contextlib.suppress(ValueError, SyntaxError):
+            out["panel"] = ast.literal_eval(m.group(1))
+    if m := _EDGE.search(message):
+        out["edge"] = int(m.group(1))
+    if m := _SEAM.search(message):
+        out["seam"] = int(m.group(1))
+    if m := _SIZE.search(message):
+        out["size"] = m.group(1) or m.group(2)
+    out["message"] = message
+    return out
 
 
 def resolve_fabric(spec, where: str = "fabric"):
@@ -237,10 +270,12 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
     if not _check_sizes(g, err):
         return rep
     stats: dict[tuple[str, str], dict] = {}
+    unsound: set[str] = set()   # panels with an outline error: their seams are not checked
     for size in g.sizes:
         for p in g.panels:
             if p.copy_of is not None:
                 continue
+            before = len(err)
             where = f"panel {p.name!r} (size {size})"
             shape = p.shapes[size]
             stats[(size, p.name)] = _check_shape(shape, where, err)
@@ -263,6 +298,8 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                 err.append(f"panel {p.name!r}: sizes have different numbers of edges "
                            f"({', '.join(f'{s}: {len(p.shapes[s].outline)}' for s in g.sizes)})"
                            f"; seams need the same vertices in every size")
+            if len(err) > before:
+                unsound.add(p.name)
         for p in g.panels:
             base_name, _ = g.source_vertex_map(p)
             st = stats.get((size, base_name))
@@ -273,17 +310,16 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                                "area_m2": round(st["area_m2"], 6),
                                "perimeter_m": round(st["perimeter_m"], 5), "edges": st["edges"],
                                "fold": p.fold is not None, "copy_of": p.copy_of})
-    if len(err) > n_before:
-        return rep   # seams need sound outlines
     for size in g.sizes:
         fabric = sum(r["area_m2"] * (2 if r["fold"] else 1) for r in rep.panels
                      if r["size"] == size)
         if fabric > MAX_GARMENT_AREA:
             err.append(f"size {size}: the panels add up to {fabric:.3g} m² of fabric (at most "
                        f"{MAX_GARMENT_AREA:g} m²): not garment-sized")
-    if len(err) > n_before:
+    if len(err) > n_before and not unsound:
         return rep
-    _check_seams(g, rep)
+    # seams need sound outlines: those touching a panel with an outline error are left out
+    _check_seams(g, rep, unsound)
     _check_reachable(g, rep)
     return rep
 
@@ -345,11 +381,13 @@ def _check_sizes(g: Garment, err: list[str]) -> bool:
     return len(err) == n
 
 
-def _check_seams(g: Garment, rep: Report) -> None:
+def _check_seams(g: Garment, rep: Report, unsound: set[str] = frozenset()) -> None:
     err = rep.errors
     for size in g.sizes:
         used: dict[str, list[tuple[int, int, int, str]]] = {}
         for i, s in enumerate(g.seams):
+            if {g.source_vertex_map(g.panel(sd.panel))[0] for sd in (s.a, s.b)} & unsound:
+                continue
             lab = s.label(i)
             lens = []
             bad = False

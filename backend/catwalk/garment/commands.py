@@ -231,6 +231,14 @@ def register(top, groups) -> None:
     p.add_argument("--json", action="store_true", help="print the report as JSON")
     p.set_defaults(func=_check)
 
+    from catwalk.simulate import fitcheck
+
+    p = sub.add_parser("dress-check", help="dress every size on its sample body standing and "
+                       "check it: seams welded, no penetration, strain within the fabric's "
+                       "limit, held up by the body (exit 3 if a size fails)")
+    fitcheck.add_arguments(p)
+    p.set_defaults(func=fitcheck.main)
+
     p = sub.add_parser("import", help="import an AAMA/ASTM or plain DXF pattern")
     p.add_argument("file")
     p.add_argument("--size", help="import only this size")

@@ -1,8 +1,10 @@
-"""The catalogue the service shows: the garments in ``CATWALK_CATALOGUE_DIR``.
+"""The catalogue the service shows: the garments in ``CATWALK_CATALOGUE_DIR``, then the
+merchants' published garments (``service/merchant_garments.py``).
 
-Each garment's id is its file's stem; its version is the hash of the file and of the texture
-images it names, so an edited garment gets a new version (and new cached results). The list
-is read once and read again when a file in the folder changes.
+A file's garment's id is its file's stem; a merchant's garment's id is made at its upload.
+A garment's version is the hash of its file and of the texture images it names, so an edited
+garment gets a new version (and new cached results). The list is read once and read again
+when a file in the folder changes or a merchant publishes or deletes a garment.
 """
 
 from __future__ import annotations
@@ -66,8 +68,11 @@ CHECK_EVERY_S = 1.0
 
 
 class Catalogue:
-    def __init__(self, config: Config):
+    def __init__(self, config: Config, *, merchants: bool = True):
+        """``merchants``: with the merchants' published garments (from the database)."""
         self.root = config.catalogue_dir
+        self.config = config if merchants else None
+        self._merchant: tuple = ()
         self._lock = threading.Lock()
         self._stamp: tuple | None = None
         self._entries: dict[str, Entry] = {}
@@ -76,11 +81,33 @@ class Catalogue:
 
     def _current_stamp(self) -> tuple:
         files = sorted(self.root.glob("*.json")) + sorted((self.root / "textures").glob("*"))
-        return tuple((f.name, f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+        return (tuple((f.name, f.stat().st_mtime_ns, f.stat().st_size) for f in files),
+                self._published())
 
-    def _load(self) -> dict[str, Entry]:
+    def _published(self) -> tuple:
+        """The merchants' published garments (id, version, content); the last known when the
+        database cannot be asked."""
+        if self.config is None:
+            return ()
+        from catwalk.service.merchant_garments import published
+
+        try:
+            self._merchant = tuple(published(self.config))
+        except Exception as exc:  # noqa: BLE001 - the database away: the files still serve
+            log.warning(json.dumps({"event": "catalogue_db_unreachable",
+                                    "error": type(exc).__name__}))
+        return self._merchant
+
+    def _entry(self, gid: str, path: Path, g: Garment, fabrics: list[str],
+               version: str | None = None) -> Entry:
+        own = g.fabric if isinstance(g.fabric, str) else "custom"
+        return Entry(gid, version or garment_version(path, g), path, g, own,
+                     [own] + [f for f in fabrics if f != own])
+
+    def _load(self, published: tuple) -> dict[str, Entry]:
         from catwalk.exchange.garment_json import load_garment
         from catwalk.garment.catalogue import catalogue_files
+        from catwalk.service.storage import Storage
 
         fabrics = fabric_choices()
         out = {}
@@ -91,9 +118,21 @@ class Catalogue:
                 log.warning(json.dumps({"event": "garment_skipped", "file": path.name,
                                         "error": str(exc)[:300]}))
                 continue
-            own = g.fabric if isinstance(g.fabric, str) else "custom"
-            out[path.stem] = Entry(path.stem, garment_version(path, g), path, g, own,
-                                   [own] + [f for f in fabrics if f != own])
+            out[path.stem] = self._entry(path.stem, path, g, fabrics)
+        storage = Storage(self.config.storage_dir) if self.config is not None else None
+        for gid, n, content in published:
+            if gid in out:
+                continue   # a file's garment keeps its id
+            old = self._entries.get(gid)
+            if old is not None and old.version == content:
+                out[gid] = old   # versions never change: not read again
+                continue
+            path = storage.merchant_garment_dir(gid, n) / "garment.json"
+            try:
+                out[gid] = self._entry(gid, path, load_garment(path), fabrics, content)
+            except CatwalkError as exc:
+                log.warning(json.dumps({"event": "garment_skipped", "garment": gid,
+                                        "error": str(exc)[:300]}))
         return out
 
     def fresh(self) -> dict[str, Entry] | None:
@@ -112,7 +151,7 @@ class Catalogue:
         self._checked = now
         with self._lock:
             if stamp != self._stamp:
-                self._entries, self._stamp = self._load(), stamp
+                self._entries, self._stamp = self._load(stamp[1]), stamp
                 self._listing = None
             return self._entries
 

@@ -29,6 +29,42 @@ def _demo(args) -> int:
     return main(args)
 
 
+def _merchant(args) -> int:
+    """``catwalk merchant create|list|revoke``: against the service's database (migrated
+    first), which must be reachable."""
+    import json
+
+    from sqlalchemy.exc import DBAPIError
+
+    from catwalk.config import get_config
+    from catwalk.errors import SetupError
+    from catwalk.service import db, merchants
+
+    config = get_config()
+    try:
+        db.migrate(config)
+        if args.merchant_command == "create":
+            key = merchants.create(config, args.name)
+            print(f"merchant {args.name!r} created; its API key (shown once, not stored; send "
+                  "it as 'Authorization: Bearer KEY'):")
+            print(key)
+        elif args.merchant_command == "list":
+            rows = merchants.listing(config)
+            if args.json:
+                print(json.dumps(rows, indent=1))
+            for r in [] if args.json else rows:
+                state = f"revoked {r['revoked_at']}" if r["revoked_at"] else "active"
+                print(f"{r['name']:<32} created {r['created_at']}  {state}")
+        else:
+            done = merchants.revoke(config, args.name)
+            print(f"merchant {args.name!r}: key revoked" if done else
+                  f"merchant {args.name!r}: its key was revoked already")
+    except DBAPIError as exc:
+        raise SetupError(f"the database cannot be reached ({type(exc.orig).__name__}); check "
+                         "CATWALK_DATABASE_URL") from None
+    return 0
+
+
 def _bench_player(args) -> int:
     from catwalk.bench.player import main
 
@@ -76,6 +112,18 @@ def register(top, groups) -> None:
     p.add_argument("--exit", action="store_true",
                    help="stop once the try-on is written (also DEMO_EXIT=1)")
     p.set_defaults(func=_demo)
+
+    merchant = groups["merchant"]
+    p = merchant.add_parser("create", help="a new merchant; prints its API key once, alone on "
+                                           "the last line")
+    p.add_argument("name", help="1–64 lower-case letters, digits, '-' or '_'")
+    p.set_defaults(func=_merchant)
+    p = merchant.add_parser("list", help="every merchant (never a key)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_merchant)
+    p = merchant.add_parser("revoke", help="revoke a merchant's key (its garments stay)")
+    p.add_argument("name")
+    p.set_defaults(func=_merchant)
 
     p = groups["bench"].add_parser(
         "service", help="try-ons through the HTTP API: per minute, latency, overhead against "

@@ -8,6 +8,13 @@
   ``cancelled``), progress, and the worker's heartbeat; ``key`` is the content key of the
   result it makes.
 - ``workers``: the worker processes as last seen (for the metrics).
+- ``merchants``: a merchant (made by an operator, ``catwalk merchant create``): its name and
+  the SHA-256 of its API key (the key itself is shown once and never stored), revoked or not.
+- ``merchant_garments``: a merchant's garment: its catalogue id, its latest version and the
+  version published in the catalogue (none: a draft), deleted or not.
+- ``garment_versions``: each upload or change of a garment, immutable: its files under
+  ``garments/<id>/<n>/`` in the storage, the content hash a try-on's key names, the check's
+  warnings, and the dressing check per size (the worker's report).
 - ``results``: a finished result, stored exactly once per content key (the files under
   ``results/<key>/`` in the storage are written first, then this row).
 
@@ -117,3 +124,45 @@ class WorkerRow(Base):
     concurrency: Mapped[int] = mapped_column(Integer)
     started_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
     seen_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+
+
+class MerchantRow(Base):
+    __tablename__ = "merchants"
+
+    id: Mapped[str] = mapped_column(String(43), primary_key=True)
+    name: Mapped[str] = mapped_column(String(64), unique=True)
+    key_sha256: Mapped[str] = mapped_column(String(64), unique=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    revoked_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+
+
+class MerchantGarmentRow(Base):
+    __tablename__ = "merchant_garments"
+    __table_args__ = (Index("ix_merchant_garments_merchant", "merchant_id"),)
+
+    id: Mapped[str] = mapped_column(String(64), primary_key=True)   # the catalogue id
+    merchant_id: Mapped[str] = mapped_column(ForeignKey("merchants.id", ondelete="CASCADE"))
+    name: Mapped[str] = mapped_column(String(200))
+    type: Mapped[str] = mapped_column(String(32))
+    version: Mapped[int] = mapped_column(Integer)                    # the latest
+    published_version: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    updated_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    deleted_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+
+
+class GarmentVersionRow(Base):
+    __tablename__ = "garment_versions"
+
+    garment_id: Mapped[str] = mapped_column(
+        ForeignKey("merchant_garments.id", ondelete="CASCADE"), primary_key=True)
+    version: Mapped[int] = mapped_column(Integer, primary_key=True)
+    content: Mapped[str] = mapped_column(String(64))   # catalogue.garment_version of its files
+    created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
+    sizes: Mapped[list] = mapped_column(JSON)
+    warnings: Mapped[list] = mapped_column(JSON)
+    dressing: Mapped[dict] = mapped_column(JSON)       # size → the dressing check's report
+    # the dressing check as a job (claimed, beating and run again like a try-on)
+    check_status: Mapped[str] = mapped_column(String(16), default="queued")
+    check_attempts: Mapped[int] = mapped_column(Integer, default=0)
+    check_beat_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)

@@ -9,6 +9,8 @@ Layout under ``CATWALK_STORAGE_DIR``::
     results/<key>/preview.png          frames of it, rendered on the CPU
     results/<key>/metrics.json
     thumbnails/<garment id>/<version>.png
+    garments/<id>/<n>/garment.json     a merchant's garment, version n (and its textures)
+    garments/<id>/<n>/dressed/<size>.glb   its dressing check on the size's sample body
     samples/<name>.glb                 sample bodies (thumbnails are dressed on them)
 
 Nothing half-written is ever visible: a file is written to a temporary name beside it and
@@ -52,6 +54,9 @@ class Storage:
     def thumbnail(self, garment_id: str, version: str) -> Path:
         return self.root / "thumbnails" / garment_id / f"{version}.png"
 
+    def merchant_garment_dir(self, garment_id: str, version: int) -> Path:
+        return self.root / "garments" / garment_id / str(int(version))
+
     def samples_dir(self) -> Path:
         return self.root / "samples"
 
@@ -70,7 +75,7 @@ class Storage:
         import time
 
         now, gone = time.time(), 0
-        for top in ("bodies", "results", "thumbnails"):
+        for top in ("bodies", "results", "thumbnails", "garments"):
             root = self.root / top
             if not root.is_dir():
                 continue

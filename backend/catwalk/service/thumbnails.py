@@ -20,33 +20,40 @@ log = logging.getLogger("catwalk.api")
 SIZE = (240, 360)
 
 
-def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str,
-                     out: str) -> str:
-    """(In a pool process.) Dress the garment on the sample body, render it, write ``out``."""
+def dressed_files(res, workdir: Path) -> tuple[bytes, bytes]:
+    """A dressed, standing try-on as the catalogue shows it: the meshopt .glb and the front
+    view PNG."""
     import numpy as np
     from PIL import Image
 
-    import catwalk
-    from catwalk.body.commands import sample_body
+    from catwalk.exchange.compress import compress_bytes
     from catwalk.exchange.scene import scene_of
-    from catwalk.fileio import atomic_path
     from catwalk.render.preview import render_meshes
 
-    body = sample_body(sample, Path(samples_dir))
-    res = catwalk.tryon(body, garment_path, size=size, seconds=0, preset="fast",
-                        measure=False, garment_id=Path(garment_path).stem)
-    from catwalk.exchange.compress import compress_bytes
-
-    web, _ = compress_bytes(res.glb(normals=False), workdir=Path(out).parent)
-    with atomic_path(Path(out).with_suffix(".glb")) as tmp:
-        tmp.write_bytes(web)
+    web, _ = compress_bytes(res.glb(normals=False), workdir=workdir)
     scene = scene_of(res.body, None, [res.frames()])
     meshes = [(v, f, rgb) for _, v, f, rgb in scene.meshes_at(0.0)]
     img = render_meshes(meshes, view="front", size=SIZE)
     buf = io.BytesIO()
     Image.fromarray(np.asarray(img)).save(buf, format="PNG")
+    return web, buf.getvalue()
+
+
+def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str,
+                     out: str) -> str:
+    """(In a pool process.) Dress the garment on the sample body, render it, write ``out``."""
+    import catwalk
+    from catwalk.body.commands import sample_body
+    from catwalk.fileio import atomic_path
+
+    body = sample_body(sample, Path(samples_dir))
+    res = catwalk.tryon(body, garment_path, size=size, seconds=0, preset="fast",
+                        measure=False, garment_id=Path(garment_path).stem)
+    web, png = dressed_files(res, Path(out).parent)
+    with atomic_path(Path(out).with_suffix(".glb")) as tmp:
+        tmp.write_bytes(web)
     with atomic_path(out) as tmp:
-        tmp.write_bytes(buf.getvalue())
+        tmp.write_bytes(png)
     return out
 
 

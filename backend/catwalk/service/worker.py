@@ -116,6 +116,12 @@ def register_tasks(app, config: Config) -> None:
     def run_tryon(job_id: str) -> str:
         return run_job(config, job_id)
 
+    from catwalk.service.checks import CHECK_TASK, run_check
+
+    @app.task(name=CHECK_TASK, acks_late=True, reject_on_worker_lost=True, ignore_result=True)
+    def check_garment(garment_id: str, version: int) -> str:
+        return run_check(config, garment_id, version)
+
 
 def run_job(config: Config, job_id: str) -> str:
     """Run one job if it is this worker's to run; returns how it ended."""
@@ -314,6 +320,8 @@ class Recovery(threading.Thread):
         self.stop = threading.Event()
 
     def run(self) -> None:
+        from catwalk.service.checks import send_check
+        from catwalk.service.merchant_garments import recover_checks
         from catwalk.service.queue import queued_messages, send
 
         while not self.stop.wait(self.every_s):
@@ -323,6 +331,8 @@ class Recovery(threading.Thread):
             try:
                 did = jobs.recover(self.config, lambda j: send(self.config, j),
                                    lambda: queued_messages(self.config))
+                did["checks"] = recover_checks(
+                    self.config, lambda g, v: send_check(self.config, g, v))
                 if any(did.values()):
                     log.info(json.dumps({"event": "recovered", **did}))
             except Exception as exc:

@@ -20,7 +20,7 @@ from fastapi import FastAPI, Request
 from catwalk.config import Config, get_config
 from catwalk.service.api import errors
 from catwalk.service.api.errors import UploadTooLarge
-from catwalk.service.api.routes import bodies, garments, health, tryons
+from catwalk.service.api.routes import bodies, garments, health, merchant, tryons
 from catwalk.service.bodies import BodyMaker
 from catwalk.service.catalogue import Catalogue
 from catwalk.service.metrics import Metrics
@@ -260,7 +260,7 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     app.state.thumbnails = Thumbnails(app.state.storage, app.state.maker)
     app.state.metrics = Metrics(config)
     errors.install(app)
-    for r in (health.router, garments.router, bodies.router, tryons.router):
+    for r in (health.router, garments.router, bodies.router, tryons.router, merchant.router):
         app.include_router(r)
     _document(app)
     if frontend is not None and (frontend / "index.html").is_file():

@@ -160,12 +160,23 @@ class ErrorDetail(BaseModel):
     message: str
 
 
+class Problem(BaseModel):
+    panel: str | None = Field(None, description="the panel named by the problem")
+    edge: int | None = Field(None, description="the outline edge (its number) named")
+    seam: int | None = Field(None, description="the seam (its number) named")
+    size: str | None = Field(None, description="the size the problem is in")
+    message: str
+
+
 class ErrorBody(BaseModel):
     code: str
     message: str
     field: str | None = Field(None, description="the parameter at fault, when one is")
     details: list[ErrorDetail] | None = Field(
         None, description="a request FastAPI refused: one entry per problem")
+    problems: list[Problem] | None = Field(
+        None, description="an uploaded garment's problems (`invalid_garment`): every one, "
+                          "as `catwalk garment check` lists them")
 
 
 class Error(BaseModel):
@@ -173,6 +184,7 @@ class Error(BaseModel):
 
 
 _WHY = {
+    401: "no merchant API key, or one unknown or revoked (`Authorization: Bearer KEY`)",
     400: "unreadable: JSON that does not parse, a multipart body that cannot be read, a "
          "`Range` that is not `bytes=start-end` (code `bad_range`)",
     404: "unknown id (or the file it names missing)",
@@ -180,7 +192,8 @@ _WHY = {
     413: "the request body is over `CATWALK_UPLOAD_MAX_BYTES` (`too_large`)",
     415: "a `Content-Type` (or a scan type) this route does not take",
     416: "a `Range` no byte of the file satisfies (`bad_range`, `Content-Range: bytes */size`)",
-    422: "a value missing, out of range, unknown or extra (`invalid`)",
+    422: "a value missing, out of range, unknown or extra (`invalid`); an uploaded garment "
+         "with problems (`invalid_garment`, each in `problems`)",
     503: "not now: the database cannot be reached (`unavailable`, `Retry-After`), a body not "
          "made in time (`busy`), a file still being made (`not_ready`)",
 }
@@ -225,3 +238,66 @@ FILE_HEADERS = {"parameters": [
      "description": "the `ETag` (a list, `W/` or `*`) → 304"},
 ]}
 CONDITIONAL_HEADERS = {"parameters": FILE_HEADERS["parameters"][2:]}
+
+
+# ------------------------------------------------------------------------------ merchants
+
+class Merchant(BaseModel):
+    name: str
+    created_at: str
+
+
+class SizeDressing(BaseModel):
+    """A size's dressing check on its sample body."""
+    model_config = ConfigDict(extra="allow")
+    status: Literal["queued", "running", "dressed", "failed"]
+    ok: bool | None = None
+    sample: str | None = Field(None, description="the sample body (bodies/recipes.json)")
+    message: str | None = None
+    glb_url: str | None = Field(None, description="the size dressed, as a .glb")
+
+
+class GarmentVersionCreated(BaseModel):
+    id: str = Field(description="the garment's catalogue id")
+    version: int
+    sizes: list[str]
+    warnings: list[str]
+    dressing: dict[str, SizeDressing]
+
+
+class GarmentVersion(BaseModel):
+    version: int
+    content: str = Field(description="the hash of its files (a try-on's garment_version)")
+    created_at: str
+    sizes: list[str]
+    warnings: list[str]
+    check_status: Literal["queued", "running", "done"]
+    dressing: dict[str, SizeDressing]
+
+
+class MerchantGarment(BaseModel):
+    id: str
+    name: str
+    type: str
+    version: int = Field(description="the latest version")
+    published_version: int | None = Field(description="the version in the catalogue (none: a "
+                                                      "draft)")
+    sizes: list[str]
+    created_at: str
+    updated_at: str
+    catalogue_url: str | None
+    versions: list[GarmentVersion]
+
+
+class MerchantGarmentDetail(MerchantGarment):
+    garment: dict = Field(description="the latest version's garment JSON")
+
+
+class MerchantGarments(BaseModel):
+    garments: list[MerchantGarment]
+
+
+class DxfImport(BaseModel):
+    garment: dict = Field(description="the pieces as a garment JSON without seams")
+    pieces: list[dict]
+    warnings: list[str]
