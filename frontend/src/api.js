@@ -39,7 +39,7 @@ export function errorFromResponse( status, data ) {
 
 }
 
-function parseJson( text ) {
+export function parseJson( text ) {
 
 	if ( ! text ) return null;
 	try {
@@ -64,33 +64,62 @@ async function request( method, path, { json, signal } = {} ) {
 
 	}
 
-	let res;
-	try {
-
-		res = await fetch( path, init );
-
-	} catch ( err ) {
-
-		if ( err && err.name === 'AbortError' ) throw err;
-		throw new NetworkError( err );
-
-	}
-
-	let text;
-	try {
-
-		text = await res.text();
-
-	} catch ( err ) {
-
-		if ( err && err.name === 'AbortError' ) throw err;
-		throw new NetworkError( err );
-
-	}
-
-	const data = parseJson( text );
+	const res = await fetchOrThrow( path, init );
+	const data = parseJson( await readText( res ) );
 	if ( ! res.ok ) throw errorFromResponse( res.status, data );
 	return data;
+
+}
+
+function network( err ) {
+
+	if ( err && err.name === 'AbortError' ) return err;
+	return new NetworkError( err );
+
+}
+
+/** `fetch( path, init )`; a failure to reach the server is thrown as NetworkError (an abort as itself). */
+export async function fetchOrThrow( path, init ) {
+
+	try {
+
+		return await fetch( path, init );
+
+	} catch ( err ) {
+
+		throw network( err );
+
+	}
+
+}
+
+/** The answer's body as text; a connection broken meanwhile is thrown as NetworkError. */
+export async function readText( res ) {
+
+	try {
+
+		return await res.text();
+
+	} catch ( err ) {
+
+		throw network( err );
+
+	}
+
+}
+
+/** The answer's body as a Blob; a connection broken meanwhile is thrown as NetworkError. */
+export async function readBlob( res ) {
+
+	try {
+
+		return await res.blob();
+
+	} catch ( err ) {
+
+		throw network( err );
+
+	}
 
 }
 

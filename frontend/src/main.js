@@ -10,9 +10,10 @@ import * as garment from './pages/garment.js';
 import * as body from './pages/body.js';
 import * as tryon from './pages/tryon.js';
 import * as compare from './pages/compare.js';
+import * as merchant from './pages/merchant.js';
 import * as notfound from './pages/notfound.js';
 
-const PAGES = { catalogue, garment, body, tryon, compare, notfound };
+const PAGES = { catalogue, garment, body, tryon, compare, merchant, notfound };
 const main = document.getElementById( 'main' );
 
 let current = null; // { controller, cleanups }

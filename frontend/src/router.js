@@ -5,6 +5,7 @@
 //   /body                   your body
 //   /tryon/{id}             a try-on (progress, then the player; ?compress=0 plays the plain file)
 //   /compare?a={id}&b={id}  two try-ons side by side
+//   /merchant               merchants: their garments, the garment editor (an API key)
 
 function decode( part ) {
 
@@ -31,6 +32,7 @@ export function parseRoute( pathname, search = '' ) {
 
 	if ( parts.length === 0 ) return { name: 'catalogue', type: query.get( 'type' ) || null };
 	if ( parts.length === 1 && parts[ 0 ] === 'body' ) return { name: 'body' };
+	if ( parts.length === 1 && parts[ 0 ] === 'merchant' ) return { name: 'merchant' };
 	if ( parts.length === 2 && parts[ 0 ] === 'garments' ) return { name: 'garment', id: parts[ 1 ] };
 	if ( parts.length === 2 && parts[ 0 ] === 'tryon' ) {
 
@@ -58,6 +60,7 @@ export const urls = {
 	body: () => '/body',
 	tryon: ( id, { compress = true } = {} ) => `/tryon/${ encodeURIComponent( id ) }${ compress ? '' : '?compress=0' }`,
 	compare: ( a, b ) => `/compare?a=${ encodeURIComponent( a ) }&b=${ encodeURIComponent( b ) }`,
+	merchant: () => '/merchant',
 };
 
 /** Whether a click on this anchor is one the router should take (same origin, plain left click). */

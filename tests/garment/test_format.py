@@ -328,3 +328,14 @@ def test_every_problem_at_once_as_structured_problems(tmp_path):
     top = next(p for p in got if "lengths differ" in p["message"])
     assert top["seam"] == 3 and top["panel"] == "pocket" and top["edge"] == 1
     assert all(p["message"] in rep.errors for p in got)
+
+
+def test_edits_move_a_placement_anchor_point_with_the_panel():
+    from catwalk.garment.edit import edit
+
+    g = tube()
+    g.panels[0].placement.anchor_point = [0.1, 0.2]
+    edit(g, "front", move=(0.05, -0.02))
+    assert g.panels[0].placement.anchor_point == pytest.approx([0.15, 0.18])
+    edit(g, "front", mirror="x")   # about the bounding box's centre, x = 0.30
+    assert g.panels[0].placement.anchor_point == pytest.approx([0.45, 0.18])

@@ -1,7 +1,8 @@
 """The paper's editor operations on a garment: move, rotate, mirror a panel; set its type,
 texture and fabric (``catwalk garment edit``).
 
-A geometric edit applies to the panel's shape in every size (outline, grain line, notches). A
+A geometric edit applies to the panel's shape in every size (outline, grain line, notches) and
+to its placement's anchor point. A
 mirror reverses the loop's direction to keep its orientation, so vertex ``i`` becomes vertex
 ``−i mod n``: seams, the fold edge and the anchor vertex that refer to the panel (or to copies
 of it, which use its numbering) are renumbered, and each seam's pairing follows the image, so the
@@ -30,10 +31,15 @@ def transform_panel(g: Garment, name: str, matrix: np.ndarray) -> None:
     reflect = float(np.linalg.det(matrix[:, :2])) < 0
     n = len(next(iter(p.shapes.values())).outline)
     p.shapes = {s: sh.transformed(matrix) for s, sh in p.shapes.items()}
+    users = {p.name} | {q.name for q in g.panels if g.source_vertex_map(q)[0] == p.name}
+    for q in g.panels:   # a placement's anchor point is in the panel's pattern coordinates
+        if q.name in users and q.placement is not None and q.placement.anchor_point is not None:
+            q.placement.anchor_point = [float(x) for x in
+                                        matrix[:, :2] @ np.asarray(q.placement.anchor_point,
+                                                                   dtype=float) + matrix[:, 2]]
     if not reflect:
         return
     # vertex v → (−v) mod n for the panel and every copy that uses its numbering
-    users = {p.name} | {q.name for q in g.panels if g.source_vertex_map(q)[0] == p.name}
     if p.fold is not None:
         p.fold = (-p.fold - 1) % n
     for q in g.panels:
