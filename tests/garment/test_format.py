@@ -339,3 +339,16 @@ def test_edits_move_a_placement_anchor_point_with_the_panel():
     assert g.panels[0].placement.anchor_point == pytest.approx([0.15, 0.18])
     edit(g, "front", mirror="x")   # about the bounding box's centre, x = 0.30
     assert g.panels[0].placement.anchor_point == pytest.approx([0.45, 0.18])
+
+
+def test_a_texture_too_large_is_refused(tmp_path):
+    from PIL import Image
+
+    Image.new("RGB", (4097, 4096)).save(tmp_path / "huge.png")
+    Image.new("RGB", (64, 64)).save(tmp_path / "small.png")
+    g = tube()
+    g.panels[0].texture = {"image": "huge.png"}
+    g.panels[1].texture = {"image": "small.png"}
+    errors = check_garment(g, tmp_path).errors
+    assert errors == ["panel 'front': texture image 'huge.png' is 4097 × 4096 pixels; at most "
+                      "16,777,216 (4096 × 4096)"]

@@ -12,7 +12,8 @@ outlines no more detailed than :data:`MAX_OUTLINE_POINTS` points, closed (a stat
 fold edges straight; seam sides inside the outline, runs of one cut piece not overlapping, seam
 partners within 2 % of each other's length (or within the seam's declared ``ease``, for
 gathers and eased seams); every panel reachable from every other through
-seams; fabric presets known (or custom fabrics complete); texture images present.
+seams; fabric presets known (or custom fabrics complete); texture images present, readable and
+at most :data:`MAX_TEXTURE_PIXELS`.
 """
 
 from __future__ import annotations
@@ -54,6 +55,9 @@ MAX_GARMENT_AREA = 8.0            # m², every cut piece of one size (folds open
 MAX_OUTLINE_POINTS = 20_000
 MAX_OUTLINE_WORK = 2_000_000
 MAX_CROSSING_WORK = 10_000_000
+# a texture image (the catalogue's: 128 × 128); a larger one costs the worker and the browser
+# memory for detail a garment's weave does not show
+MAX_TEXTURE_PIXELS = 4096 * 4096
 # the landmarks catwalk.body.measure finds (bust, underbust, waist, hips: centres of the torso
 # sections at those heights), and the aliases catwalk.garment.place accepts
 KNOWN_LANDMARKS = (
@@ -254,7 +258,12 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                 try:
                     from PIL import Image
                     with Image.open(img) as im:
+                        w, h = im.size
                         im.verify()
+                    if w * h > MAX_TEXTURE_PIXELS:
+                        err.append(f"panel {p.name!r}: texture image {p.texture['image']!r} is "
+                                   f"{w} × {h} pixels; at most {MAX_TEXTURE_PIXELS:,} (4096 × "
+                                   "4096)")
                 except Exception as exc:  # noqa: BLE001 - any decoder failure is the user's file
                     err.append(f"panel {p.name!r}: texture image {p.texture['image']!r} is not "
                                f"a readable image ({exc})")
