@@ -1,10 +1,10 @@
 // The garment's fabric: a catalogue fabric (a preset of catwalk.cloth.fabrics or one Petrak et
 // al. measured) or a custom one (docs/garment-format.md: a preset with overrides, or every
-// Fabric field).
+// Fabric field); the editor's fabric section, that form on the garment being edited.
 
 import { h, clear, nextId } from '../ui/dom.js';
 import { fabricName } from '../format.js';
-import { field, select, numberInput, num } from './form.js';
+import { field, select, numberInput, num, keepFocus } from './form.js';
 
 export const PRESET_FABRICS = [ 'cotton-jersey', 'denim', 'silk-charmeuse', 'wool-suiting', 'm1', 'm2', 'm3', 'm4', 'm5', 'm6' ];
 // the custom fabric's fields (catwalk.cloth.fabrics.Fabric), SI units
@@ -86,5 +86,18 @@ export function renderFabricForm( section, { fabric, names: offered, change } ) 
 	}
 
 	section.append( field( 'Based on', base, 'Values left empty are the base fabric’s.' ), grid );
+
+}
+
+/** The fabric section of the editor in `state` (editor-state.js): `{ el, render() }`. */
+export function createFabricPanel( state ) {
+
+	const el = h( 'section', { class: 'panel mp-sec', 'aria-labelledby': 'mp-fabric-title' } );
+	const draw = () => renderFabricForm( el, { fabric: state.g.fabric, names: state.fabricNames, change: ( fn ) => state.mutate( () => {
+
+		state.g.fabric = fn( state.g.fabric );
+
+	} ) } );
+	return { el, render: () => keepFocus( el, draw ) };
 
 }

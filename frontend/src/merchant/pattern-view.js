@@ -205,50 +205,73 @@ export class PatternView {
 		const seamMode = st.mode === 'seam';
 		for ( const name of this.scene.order ) {
 
-			const piece = this.scene.pieces[ name ];
 			const selected = st.selected === name;
-			const cls = [ 'pv-piece', selected && 'is-selected', piece.isCopy && 'is-copy', problems.panels.has( name ) && 'has-problem' ].filter( Boolean ).join( ' ' );
-			const g = s( 'g', { class: cls, 'data-panel': name } );
-			let fill = null;
-			const tex = textures.get( name );
-			if ( tex && tex.url && piece.texture && piece.texture.size ) {
-
-				const id = `pv-tex-${ this.scene.order.indexOf( name ) }`;
-				const [ tw, th ] = piece.texture.size.map( ( x ) => Math.max( 1, x * this.scale ) );
-				const [ ox, oy ] = this.toScreen( [ 0, 0 ] );
-				defs.append( s( 'pattern', { id, patternUnits: 'userSpaceOnUse', x: f( ox ), y: f( oy - th ), width: f( tw ), height: f( th ) },
-					s( 'image', { href: tex.url, x: 0, y: 0, width: f( tw ), height: f( th ), preserveAspectRatio: 'none' } ) ) );
-				fill = `url(#${ id })`;
-
-			}
-
-			if ( piece.ghost ) g.append( s( 'path', { class: 'pv-ghost', d: this.path( piece.ghost ) } ) );
-			g.append( s( 'path', { class: 'pv-outline', d: this.path( piece.points ), style: fill ? `fill:${ fill }` : null } ) );
-			if ( piece.fold != null ) {
-
-				const n = piece.outline.length;
-				g.append( s( 'path', { class: 'pv-fold', d: this.path( [ piece.outline[ piece.fold ].start, piece.outline[ ( piece.fold + 1 ) % n ].start ], false ) } ) );
-
-			}
-
-			if ( piece.grain ) {
-
-				const [ a, b ] = piece.grain.map( ( p ) => this.toScreen( p ) );
-				g.append( s( 'line', { class: 'pv-grain', x1: f( a[ 0 ] ), y1: f( a[ 1 ] ), x2: f( b[ 0 ] ), y2: f( b[ 1 ] ), 'marker-end': 'url(#pv-arrow)', 'marker-start': 'url(#pv-arrow)' } ) );
-
-			}
-
-			const box = bbox( piece.points );
-			const [ lx, ly ] = this.toScreen( [ ( box.min[ 0 ] + box.max[ 0 ] ) / 2, ( box.min[ 1 ] + box.max[ 1 ] ) / 2 ] );
-			g.append( s( 'text', { class: 'pv-label', x: f( lx ), y: f( ly ), 'text-anchor': 'middle' }, name ) );
-			pieces.append( g );
+			const piece = this.scene.pieces[ name ];
+			pieces.append( this.pieceGroup( name, { selected, defs, texture: textures.get( name ), problem: problems.panels.has( name ) } ) );
 			if ( seamMode || selected ) this.vertices( overlay, piece, false, selected );
 			if ( seamMode && piece.ghost ) this.vertices( overlay, piece, true, false );
 
 		}
 
 		svg.append( pieces );
-		// seams: runs in the seam's colour, dashed lines between the ends that meet
+		svg.append( this.seamLines( seamMode ) );
+		if ( st.draft ) {
+
+			for ( const run of st.draft.runs || [] ) svg.append( s( 'path', { class: 'pv-draft', d: this.path( run, false ) } ) );
+			for ( const [ p, q ] of st.draft.links || [] ) svg.append( s( 'path', { class: 'pv-link pv-link--draft', d: this.path( [ p, q ], false ) } ) );
+
+		}
+
+		for ( const e of problems.edges ) svg.append( s( 'path', { class: 'pv-problem-edge', d: this.path( e.points, false ) } ) );
+		svg.append( overlay );
+
+	}
+
+	/** The piece `name`: outline (filled with its `texture`), mirrored half, fold, grain line, name. */
+	pieceGroup( name, { selected, defs, texture, problem } ) {
+
+		const piece = this.scene.pieces[ name ];
+		const cls = [ 'pv-piece', selected && 'is-selected', piece.isCopy && 'is-copy', problem && 'has-problem' ].filter( Boolean ).join( ' ' );
+		const g = s( 'g', { class: cls, 'data-panel': name } );
+		let fill = null;
+		if ( texture && texture.url && piece.texture && piece.texture.size ) {
+
+			const id = `pv-tex-${ this.scene.order.indexOf( name ) }`;
+			const [ tw, th ] = piece.texture.size.map( ( x ) => Math.max( 1, x * this.scale ) );
+			const [ ox, oy ] = this.toScreen( [ 0, 0 ] );
+			defs.append( s( 'pattern', { id, patternUnits: 'userSpaceOnUse', x: f( ox ), y: f( oy - th ), width: f( tw ), height: f( th ) },
+				s( 'image', { href: texture.url, x: 0, y: 0, width: f( tw ), height: f( th ), preserveAspectRatio: 'none' } ) ) );
+			fill = `url(#${ id })`;
+
+		}
+
+		if ( piece.ghost ) g.append( s( 'path', { class: 'pv-ghost', d: this.path( piece.ghost ) } ) );
+		g.append( s( 'path', { class: 'pv-outline', d: this.path( piece.points ), style: fill ? `fill:${ fill }` : null } ) );
+		if ( piece.fold != null ) {
+
+			const n = piece.outline.length;
+			g.append( s( 'path', { class: 'pv-fold', d: this.path( [ piece.outline[ piece.fold ].start, piece.outline[ ( piece.fold + 1 ) % n ].start ], false ) } ) );
+
+		}
+
+		if ( piece.grain ) {
+
+			const [ a, b ] = piece.grain.map( ( p ) => this.toScreen( p ) );
+			g.append( s( 'line', { class: 'pv-grain', x1: f( a[ 0 ] ), y1: f( a[ 1 ] ), x2: f( b[ 0 ] ), y2: f( b[ 1 ] ), 'marker-end': 'url(#pv-arrow)', 'marker-start': 'url(#pv-arrow)' } ) );
+
+		}
+
+		const box = bbox( piece.points );
+		const [ lx, ly ] = this.toScreen( [ ( box.min[ 0 ] + box.max[ 0 ] ) / 2, ( box.min[ 1 ] + box.max[ 1 ] ) / 2 ] );
+		g.append( s( 'text', { class: 'pv-label', x: f( lx ), y: f( ly ), 'text-anchor': 'middle' }, name ) );
+		return g;
+
+	}
+
+	/** The seams: runs in the seam's colour, dashed lines between the ends that meet (highlighted or in seam mode). */
+	seamLines( seamMode ) {
+
+		const st = this.state;
 		const seams = s( 'g', { class: 'pv-seams' } );
 		for ( const seam of this.scene.seams ) {
 
@@ -260,16 +283,7 @@ export class PatternView {
 
 		}
 
-		svg.append( seams );
-		if ( st.draft ) {
-
-			for ( const run of st.draft.runs || [] ) svg.append( s( 'path', { class: 'pv-draft', d: this.path( run, false ) } ) );
-			for ( const [ p, q ] of st.draft.links || [] ) svg.append( s( 'path', { class: 'pv-link pv-link--draft', d: this.path( [ p, q ], false ) } ) );
-
-		}
-
-		for ( const e of problems.edges ) svg.append( s( 'path', { class: 'pv-problem-edge', d: this.path( e.points, false ) } ) );
-		svg.append( overlay );
+		return seams;
 
 	}
 
@@ -355,79 +369,10 @@ export class PatternView {
 	listen() {
 
 		const svg = this.svg;
-		let drag = null; // { kind: pan | piece, x, y, name, moved, group }
-		svg.addEventListener( 'pointerdown', ( e ) => {
-
-			if ( e.button !== 0 ) return;
-			const vertex = e.target.closest && e.target.closest( '.pv-vertex' );
-			if ( vertex && this.state.mode === 'seam' ) {
-
-				e.preventDefault();
-				this.cb.onVertex( vertex.dataset.panel, Number( vertex.dataset.vertex ), vertex.dataset.ghost === '1' );
-				return;
-
-			}
-
-			const pieceEl = e.target.closest && e.target.closest( '.pv-piece' );
-			svg.setPointerCapture( e.pointerId );
-			if ( pieceEl && this.state.mode !== 'seam' ) {
-
-				const name = pieceEl.dataset.panel;
-				if ( this.state.selected !== name ) this.cb.onSelect( name );
-				const group = svg.querySelector( `.pv-piece[data-panel="${ cssEscape( name ) }"]` );
-				drag = { kind: this.scene.pieces[ name ] && ! this.scene.pieces[ name ].isCopy ? 'piece' : 'pan', x: e.clientX, y: e.clientY, name, moved: false, group };
-
-			} else {
-
-				drag = { kind: 'pan', x: e.clientX, y: e.clientY, moved: false, centre: this.centre.slice() };
-				if ( ! pieceEl && this.state.mode !== 'seam' ) drag.deselect = true;
-
-			}
-
-		} );
-		svg.addEventListener( 'pointermove', ( e ) => {
-
-			if ( ! drag ) return;
-			const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
-			if ( ! drag.moved && Math.hypot( dx, dy ) < 3 ) return;
-			drag.moved = true;
-			if ( drag.kind === 'pan' ) {
-
-				if ( ! drag.centre ) drag.centre = this.centre.slice();
-				this.centre = [ drag.centre[ 0 ] - dx / this.scale, drag.centre[ 1 ] + dy / this.scale ];
-				this.draw();
-
-			} else {
-
-				const group = this.svg.querySelector( `.pv-piece[data-panel="${ cssEscape( drag.name ) }"]` );
-				if ( group ) group.setAttribute( 'transform', `translate(${ f( dx ) } ${ f( dy ) })` );
-				svg.classList.add( 'is-dragging' );
-
-			}
-
-		} );
-		const end = ( e ) => {
-
-			if ( ! drag ) return;
-			const d = drag;
-			drag = null;
-			svg.classList.remove( 'is-dragging' );
-			if ( svg.hasPointerCapture( e.pointerId ) ) svg.releasePointerCapture( e.pointerId );
-			if ( d.kind === 'piece' && d.moved && e.type === 'pointerup' ) {
-
-				this.cb.onMove( d.name, ( e.clientX - d.x ) / this.scale, - ( e.clientY - d.y ) / this.scale );
-
-			} else if ( d.kind === 'piece' && d.moved ) {
-
-				this.draw();
-
-			} else if ( d.deselect && ! d.moved ) {
-
-				this.cb.onSelect( null );
-
-			}
-
-		};
+		this.drag = null; // { kind: pan | piece, x, y, name, moved, group, centre, deselect }
+		svg.addEventListener( 'pointerdown', ( e ) => this.pointerDown( e ) );
+		svg.addEventListener( 'pointermove', ( e ) => this.pointerMove( e ) );
+		const end = ( e ) => this.pointerEnd( e );
 		svg.addEventListener( 'pointerup', end );
 		svg.addEventListener( 'pointercancel', end );
 		svg.addEventListener( 'wheel', ( e ) => {
@@ -436,34 +381,118 @@ export class PatternView {
 			this.zoom( Math.exp( - e.deltaY * 0.0015 ), this.toWorld( e.clientX, e.clientY ) );
 
 		}, { passive: false } );
-		svg.addEventListener( 'keydown', ( e ) => {
+		svg.addEventListener( 'keydown', ( e ) => this.keyDown( e ) );
 
-			const arrows = { ArrowLeft: [ - 1, 0 ], ArrowRight: [ 1, 0 ], ArrowUp: [ 0, 1 ], ArrowDown: [ 0, - 1 ] };
-			if ( e.key === '+' || e.key === '=' ) this.zoom( 1.25 );
-			else if ( e.key === '-' ) this.zoom( 0.8 );
-			else if ( e.key === '0' ) this.fit();
-			else if ( e.key === 'Escape' ) this.cb.onSelect( null );
-			else if ( arrows[ e.key ] ) {
+	}
 
-				const [ ax, ay ] = arrows[ e.key ];
-				const piece = this.state.selected && this.scene && this.scene.pieces[ this.state.selected ];
-				if ( piece && ! piece.isCopy && this.state.mode !== 'seam' ) {
+	/** A vertex clicked (seam mode), or a drag starting: of a piece (edit mode), else of the background. */
+	pointerDown( e ) {
 
-					const step = e.shiftKey ? 0.01 : 0.001; // 1 cm, or 1 mm
-					this.cb.onNudge( ax * step, ay * step );
+		const svg = this.svg;
+		if ( e.button !== 0 ) return;
+		const vertex = e.target.closest && e.target.closest( '.pv-vertex' );
+		if ( vertex && this.state.mode === 'seam' ) {
 
-				} else {
-
-					const step = 40 / this.scale;
-					this.centre = [ this.centre[ 0 ] + ax * step, this.centre[ 1 ] + ay * step ];
-					this.draw();
-
-				}
-
-			} else return;
 			e.preventDefault();
+			this.cb.onVertex( vertex.dataset.panel, Number( vertex.dataset.vertex ), vertex.dataset.ghost === '1' );
+			return;
 
-		} );
+		}
+
+		const pieceEl = e.target.closest && e.target.closest( '.pv-piece' );
+		svg.setPointerCapture( e.pointerId );
+		if ( pieceEl && this.state.mode !== 'seam' ) {
+
+			const name = pieceEl.dataset.panel;
+			if ( this.state.selected !== name ) this.cb.onSelect( name );
+			const group = svg.querySelector( `.pv-piece[data-panel="${ cssEscape( name ) }"]` );
+			this.drag = { kind: this.scene.pieces[ name ] && ! this.scene.pieces[ name ].isCopy ? 'piece' : 'pan', x: e.clientX, y: e.clientY, name, moved: false, group };
+
+		} else {
+
+			this.drag = { kind: 'pan', x: e.clientX, y: e.clientY, moved: false, centre: this.centre.slice() };
+			if ( ! pieceEl && this.state.mode !== 'seam' ) this.drag.deselect = true;
+
+		}
+
+	}
+
+	/** Pan, or move the dragged piece's drawing (the piece itself moves when the drag ends). */
+	pointerMove( e ) {
+
+		const drag = this.drag;
+		if ( ! drag ) return;
+		const dx = e.clientX - drag.x, dy = e.clientY - drag.y;
+		if ( ! drag.moved && Math.hypot( dx, dy ) < 3 ) return;
+		drag.moved = true;
+		if ( drag.kind === 'pan' ) {
+
+			if ( ! drag.centre ) drag.centre = this.centre.slice();
+			this.centre = [ drag.centre[ 0 ] - dx / this.scale, drag.centre[ 1 ] + dy / this.scale ];
+			this.draw();
+
+		} else {
+
+			const group = this.svg.querySelector( `.pv-piece[data-panel="${ cssEscape( drag.name ) }"]` );
+			if ( group ) group.setAttribute( 'transform', `translate(${ f( dx ) } ${ f( dy ) })` );
+			this.svg.classList.add( 'is-dragging' );
+
+		}
+
+	}
+
+	/** A drag ended (pointerup) or was cancelled: the piece moved, or a click on the background deselects. */
+	pointerEnd( e ) {
+
+		const svg = this.svg;
+		if ( ! this.drag ) return;
+		const d = this.drag;
+		this.drag = null;
+		svg.classList.remove( 'is-dragging' );
+		if ( svg.hasPointerCapture( e.pointerId ) ) svg.releasePointerCapture( e.pointerId );
+		if ( d.kind === 'piece' && d.moved && e.type === 'pointerup' ) {
+
+			this.cb.onMove( d.name, ( e.clientX - d.x ) / this.scale, - ( e.clientY - d.y ) / this.scale );
+
+		} else if ( d.kind === 'piece' && d.moved ) {
+
+			this.draw();
+
+		} else if ( d.deselect && ! d.moved ) {
+
+			this.cb.onSelect( null );
+
+		}
+
+	}
+
+	/** + − 0 zoom and fit; Escape deselects; the arrows nudge the selected piece, or pan. */
+	keyDown( e ) {
+
+		const arrows = { ArrowLeft: [ - 1, 0 ], ArrowRight: [ 1, 0 ], ArrowUp: [ 0, 1 ], ArrowDown: [ 0, - 1 ] };
+		if ( e.key === '+' || e.key === '=' ) this.zoom( 1.25 );
+		else if ( e.key === '-' ) this.zoom( 0.8 );
+		else if ( e.key === '0' ) this.fit();
+		else if ( e.key === 'Escape' ) this.cb.onSelect( null );
+		else if ( arrows[ e.key ] ) {
+
+			const [ ax, ay ] = arrows[ e.key ];
+			const piece = this.state.selected && this.scene && this.scene.pieces[ this.state.selected ];
+			if ( piece && ! piece.isCopy && this.state.mode !== 'seam' ) {
+
+				const step = e.shiftKey ? 0.01 : 0.001; // 1 cm, or 1 mm
+				this.cb.onNudge( ax * step, ay * step );
+
+			} else {
+
+				const step = 40 / this.scale;
+				this.centre = [ this.centre[ 0 ] + ax * step, this.centre[ 1 ] + ay * step ];
+				this.draw();
+
+			}
+
+		} else return;
+		e.preventDefault();
 
 	}
 

@@ -13,6 +13,61 @@ import { versionOf, sizeStatus, reportRows, hasDressed } from './status.js';
 
 export function createPreview( { signal, onUnauthorised = () => {}, onPublished = () => {} } ) {
 
+	// the parts, and what is shown: the merchant garment (with versions), the size, the 3D view
+	// ({ key, dispose, player }) and the key being loaded
+	const pv = { ...previewParts(), signal, onUnauthorised, item: null, size: null, shown: null, loading: null, name: nextId( 'pv-size' ) };
+	const dispose = () => disposeShown( pv );
+	signal.addEventListener( 'abort', dispose, { once: true } );
+	pv.publishBtn.addEventListener( 'click', () => publish( pv, onPublished ) );
+
+	/** Show the garment `it` (its latest version). */
+	function update( it ) {
+
+		pv.item = it;
+		const v = versionOf( it );
+		const sizes = ( it && it.sizes ) || [];
+		const def = it && ( it.default_size || ( it.garment && it.garment.default_size ) );
+		if ( ! pv.size || ! sizes.includes( pv.size ) ) pv.size = def && sizes.includes( def ) ? def : sizes[ Math.floor( sizes.length / 2 ) ] || null;
+		sizeOptions( pv, sizes, v, ( s ) => {
+
+			pv.size = s;
+			update( pv.item );
+
+		} );
+		refreshPublish( pv );
+		const entry = v && v.dressing && pv.size ? v.dressing[ pv.size ] : null;
+		clear( pv.statusEl );
+		if ( ! v ) {
+
+			pv.statusEl.append( 'Save the garment to dress it.' );
+			disposeShown( pv );
+			clear( pv.report );
+			return;
+
+		}
+
+		showStatus( pv, v, entry );
+		const key = `${ it.id }/${ v.version }/${ pv.size }`;
+		if ( hasDressed( entry ) ) {
+
+			if ( ( pv.shown && pv.shown.key === key ) || pv.loading === key ) return;
+			show3d( pv, key, it.id, v.version, pv.size );
+
+		} else {
+
+			disposeShown( pv );
+
+		}
+
+	}
+
+	return { el: pv.el, update, dispose };
+
+}
+
+/** The section and its parts (the 3D view's placeholder shown while the view is hidden). */
+function previewParts() {
+
 	const sizesEl = h( 'div', { class: 'size-options', role: 'radiogroup', 'aria-label': 'Size to preview' } );
 	const statusEl = h( 'p', { class: 'mp-preview__status', 'aria-live': 'polite' } );
 	const view = h( 'div', { class: 'mp-preview__view stage', hidden: true } );
@@ -36,191 +91,163 @@ export function createPreview( { signal, onUnauthorised = () => {}, onPublished 
 		empty.hidden = ! view.hidden;
 
 	} ).observe( view, { attributes: true, attributeFilter: [ 'hidden' ] } );
+	return { el, sizesEl, statusEl, view, extras, report, publishMsg, publishBtn };
 
-	let item = null; // the merchant garment (with versions)
-	let size = null;
-	let shown = null; // { key, dispose, player }
-	let loading = null; // key being loaded
-	const name = nextId( 'pv-size' );
+}
 
-	const disposeShown = () => {
+function disposeShown( pv ) {
 
-		if ( shown ) shown.dispose();
-		shown = null;
-		loading = null;
-		clear( extras );
-		view.hidden = true;
+	if ( pv.shown ) pv.shown.dispose();
+	pv.shown = null;
+	pv.loading = null;
+	clear( pv.extras );
+	pv.view.hidden = true;
+	clear( pv.view );
+
+}
+
+/** A radio a size of the version `v` (with its dressing status); `onPick(size)`. */
+function sizeOptions( pv, sizes, v, onPick ) {
+
+	clear( pv.sizesEl );
+	for ( const s of sizes ) {
+
+		const id = nextId( 'pv' );
+		const st = sizeStatus( v && v.dressing && v.dressing[ s ] );
+		pv.sizesEl.append( h( 'span', { class: 'size-option' },
+			h( 'input', { type: 'radio', name: pv.name, id, value: s, checked: s === pv.size, onchange: () => onPick( s ) } ),
+			h( 'label', { for: id }, s, h( 'span', { class: `mp-dot mp-dot--${ st.kind }`, 'aria-hidden': 'true' } ), h( 'span', { class: 'visually-hidden' }, `: ${ st.text }` ) ),
+		) );
+
+	}
+
+}
+
+/** The chosen size's status (`entry`: its dressing in version `v`) and its report's numbers. */
+function showStatus( pv, v, entry ) {
+
+	const st = sizeStatus( entry );
+	const text = `Size ${ pv.size }, version ${ v.version }: ${ st.text }`;
+	pv.statusEl.dataset.status = ( entry && entry.status ) || 'none';
+	pv.statusEl.append( st.kind === 'busy' ? h( 'span', { class: 'loading loading--inline' }, h( 'span', { class: 'spinner', 'aria-hidden': 'true' } ), text ) : text );
+	clear( pv.report );
+	for ( const [ label, value, good ] of reportRows( entry ) ) {
+
+		const cls = [ good === false && 'is-bad', good === true && 'is-good', ( label === 'Note' || label === 'Problem' ) && 'mp-report__note' ].filter( Boolean ).join( ' ' );
+		pv.report.append( h( 'div', { class: cls || null }, h( 'dt', {}, label ), h( 'dd', {}, value ) ) );
+
+	}
+
+}
+
+function refreshPublish( pv ) {
+
+	const { item, publishBtn } = pv;
+	const v = item && versionOf( item );
+	publishBtn.disabled = ! v;
+	publishBtn.textContent = item && item.published_version === item.version ? `Version ${ item.version } is published` : v ? `Publish version ${ v.version }` : 'Publish';
+	if ( item && item.published_version === item.version ) publishBtn.disabled = true;
+
+}
+
+/** Publish the garment's latest version; then links to the catalogue. */
+async function publish( pv, onPublished ) {
+
+	const { signal, publishMsg } = pv;
+	if ( ! pv.item ) return;
+	pv.publishBtn.disabled = true;
+	clear( publishMsg ).append( spinner( 'Publishing…' ) );
+	try {
+
+		const res = await publishGarment( pv.item.id, pv.item.version, { signal } );
+		const item = pv.item; // (the garment as polled meanwhile)
+		const gid = ( res && ( res.catalogue_id || res.garment_id ) ) || item.id;
+		item.published_version = ( res && res.published_version ) ?? item.version;
+		clear( publishMsg ).append( notice( 'info', `Published version ${ item.published_version }`, 'Shoppers can now find it in the catalogue.',
+			h( 'span', { class: 'mp-actions' },
+				h( 'a', { class: 'button button--secondary', href: urls.catalogue(), 'data-link': '' }, 'Open the catalogue' ),
+				h( 'a', { class: 'button button--secondary', href: urls.garment( gid ), 'data-link': '' }, 'Its catalogue page' ),
+			) ) );
+		onPublished( res );
+
+	} catch ( err ) {
+
+		if ( err && err.name === 'AbortError' ) return;
+		if ( isUnauthorised( err ) ) return pv.onUnauthorised();
+		clear( publishMsg ).append( errorNotice( err ) );
+
+	} finally {
+
+		refreshPublish( pv );
+
+	}
+
+}
+
+/** Size `s` of version `version` dressed, in 3D (the .glb fetched with the key), under `key`. */
+async function show3d( pv, key, id, version, s ) {
+
+	const { view, signal } = pv;
+	disposeShown( pv );
+	if ( ! hasWebGL() ) {
+
+		pv.statusEl.append( ' (this browser cannot show 3D)' );
+		return;
+
+	}
+
+	pv.loading = key;
+	view.hidden = false;
+	view.append( spinner( 'Loading the 3D view…' ) );
+	let url = null;
+	try {
+
+		const blob = await fetchDressed( id, version, s, { signal } );
+		if ( pv.loading !== key || signal.aborted ) return;
+		url = URL.createObjectURL( blob );
 		clear( view );
+		const got = await showDressed( view, url, { signal, label: `Size ${ s } on its sample body, in 3D; drag to turn it` } );
+		if ( ! got || pv.loading !== key ) {
 
-	};
-
-	signal.addEventListener( 'abort', disposeShown, { once: true } );
-
-	publishBtn.addEventListener( 'click', async () => {
-
-		if ( ! item ) return;
-		publishBtn.disabled = true;
-		clear( publishMsg ).append( spinner( 'Publishing…' ) );
-		try {
-
-			const res = await publishGarment( item.id, item.version, { signal } );
-			const gid = ( res && ( res.catalogue_id || res.garment_id ) ) || item.id;
-			item.published_version = ( res && res.published_version ) ?? item.version;
-			clear( publishMsg ).append( notice( 'info', `Published version ${ item.published_version }`, 'Shoppers can now find it in the catalogue.',
-				h( 'span', { class: 'mp-actions' },
-					h( 'a', { class: 'button button--secondary', href: urls.catalogue(), 'data-link': '' }, 'Open the catalogue' ),
-					h( 'a', { class: 'button button--secondary', href: urls.garment( gid ), 'data-link': '' }, 'Its catalogue page' ),
-				) ) );
-			onPublished( res );
-
-		} catch ( err ) {
-
-			if ( err && err.name === 'AbortError' ) return;
-			if ( isUnauthorised( err ) ) return onUnauthorised();
-			clear( publishMsg ).append( errorNotice( err ) );
-
-		} finally {
-
-			refreshPublish();
+			if ( got ) got.dispose();
+			return;
 
 		}
+
+		pv.shown = { key, player: got.player, dispose: got.dispose };
+		view.dataset.shown = key;
+		if ( got.player.fitMap ) pv.extras.append( ...fitMapToggle( got.player ) );
+		window.__catwalk = window.__catwalk || {};
+		window.__catwalk.merchantPreview = got.player;
+
+	} catch ( err ) {
+
+		if ( err && err.name === 'AbortError' ) return;
+		if ( isUnauthorised( err ) ) return pv.onUnauthorised();
+		clear( view ).append( errorNotice( err ) );
+
+	} finally {
+
+		if ( url ) URL.revokeObjectURL( url );
+		if ( pv.loading === key ) pv.loading = null;
+
+	}
+
+}
+
+/** "Fit map" (a toggle) and its legend, for the `player`. */
+function fitMapToggle( player ) {
+
+	const legend = fitLegend();
+	const toggle = h( 'button', { type: 'button', class: 'seg seg--toggle', 'aria-pressed': 'false' }, 'Fit map' );
+	toggle.addEventListener( 'click', () => {
+
+		const on = toggle.getAttribute( 'aria-pressed' ) !== 'true';
+		toggle.setAttribute( 'aria-pressed', String( on ) );
+		player.setFitMap( on );
+		legend.hidden = ! on;
 
 	} );
-
-	function refreshPublish() {
-
-		const v = item && versionOf( item );
-		publishBtn.disabled = ! v;
-		publishBtn.textContent = item && item.published_version === item.version ? `Version ${ item.version } is published` : v ? `Publish version ${ v.version }` : 'Publish';
-		if ( item && item.published_version === item.version ) publishBtn.disabled = true;
-
-	}
-
-	/** Show the garment `it` (its latest version). */
-	function update( it ) {
-
-		item = it;
-		const v = versionOf( item );
-		const sizes = ( item && item.sizes ) || [];
-		const def = item && ( item.default_size || ( item.garment && item.garment.default_size ) );
-		if ( ! size || ! sizes.includes( size ) ) size = def && sizes.includes( def ) ? def : sizes[ Math.floor( sizes.length / 2 ) ] || null;
-		clear( sizesEl );
-		for ( const s of sizes ) {
-
-			const id = nextId( 'pv' );
-			const st = sizeStatus( v && v.dressing && v.dressing[ s ] );
-			sizesEl.append( h( 'span', { class: 'size-option' },
-				h( 'input', { type: 'radio', name, id, value: s, checked: s === size, onchange: () => {
-
-					size = s;
-					update( item );
-
-				} } ),
-				h( 'label', { for: id }, s, h( 'span', { class: `mp-dot mp-dot--${ st.kind }`, 'aria-hidden': 'true' } ), h( 'span', { class: 'visually-hidden' }, `: ${ st.text }` ) ),
-			) );
-
-		}
-
-		refreshPublish();
-		const entry = v && v.dressing && size ? v.dressing[ size ] : null;
-		const st = sizeStatus( entry );
-		clear( statusEl );
-		if ( ! v ) {
-
-			statusEl.append( 'Save the garment to dress it.' );
-			disposeShown();
-			clear( report );
-			return;
-
-		}
-
-		statusEl.dataset.status = ( entry && entry.status ) || 'none';
-		statusEl.append( st.kind === 'busy' ? h( 'span', { class: 'loading loading--inline' }, h( 'span', { class: 'spinner', 'aria-hidden': 'true' } ), `Size ${ size }, version ${ v.version }: ${ st.text }` ) : `Size ${ size }, version ${ v.version }: ${ st.text }` );
-		clear( report );
-		for ( const [ label, text, good ] of reportRows( entry ) ) {
-
-			const cls = [ good === false && 'is-bad', good === true && 'is-good', ( label === 'Note' || label === 'Problem' ) && 'mp-report__note' ].filter( Boolean ).join( ' ' );
-			report.append( h( 'div', { class: cls || null }, h( 'dt', {}, label ), h( 'dd', {}, text ) ) );
-
-		}
-		const key = `${ item.id }/${ v.version }/${ size }`;
-		if ( hasDressed( entry ) ) {
-
-			if ( ( shown && shown.key === key ) || loading === key ) return;
-			show3d( key, item.id, v.version, size );
-
-		} else {
-
-			disposeShown();
-
-		}
-
-	}
-
-	async function show3d( key, id, version, s ) {
-
-		disposeShown();
-		if ( ! hasWebGL() ) {
-
-			statusEl.append( ' (this browser cannot show 3D)' );
-			return;
-
-		}
-
-		loading = key;
-		view.hidden = false;
-		view.append( spinner( 'Loading the 3D view…' ) );
-		let url = null;
-		try {
-
-			const blob = await fetchDressed( id, version, s, { signal } );
-			if ( loading !== key || signal.aborted ) return;
-			url = URL.createObjectURL( blob );
-			clear( view );
-			const got = await showDressed( view, url, { signal, label: `Size ${ s } on its sample body, in 3D; drag to turn it` } );
-			if ( ! got || loading !== key ) {
-
-				if ( got ) got.dispose();
-				return;
-
-			}
-
-			shown = { key, player: got.player, dispose: got.dispose };
-			view.dataset.shown = key;
-			if ( got.player.fitMap ) {
-
-				const legend = fitLegend();
-				const toggle = h( 'button', { type: 'button', class: 'seg seg--toggle', 'aria-pressed': 'false' }, 'Fit map' );
-				toggle.addEventListener( 'click', () => {
-
-					const on = toggle.getAttribute( 'aria-pressed' ) !== 'true';
-					toggle.setAttribute( 'aria-pressed', String( on ) );
-					got.player.setFitMap( on );
-					legend.hidden = ! on;
-
-				} );
-				extras.append( h( 'div', { class: 'segs' }, toggle ), legend );
-
-			}
-
-			window.__catwalk = window.__catwalk || {};
-			window.__catwalk.merchantPreview = got.player;
-
-		} catch ( err ) {
-
-			if ( err && err.name === 'AbortError' ) return;
-			if ( isUnauthorised( err ) ) return onUnauthorised();
-			clear( view ).append( errorNotice( err ) );
-
-		} finally {
-
-			if ( url ) URL.revokeObjectURL( url );
-			if ( loading === key ) loading = null;
-
-		}
-
-	}
-
-	return { el, update, dispose: disposeShown };
+	return [ h( 'div', { class: 'segs' }, toggle ), legend ];
 
 }
