@@ -341,18 +341,18 @@ def test_a_garment_that_cannot_dress_is_told_per_size(shop, procs):
     env, config = shop
     start_worker(procs, env)
     g = skirt_json(name="Too narrow")
-    for p in g["panels"]:    # a quarter of the width: the skirt cannot close round the hips
+    for p in g["panels"]:    # three quarters of the width: the skirt cannot close round the hips
         for shape in p.get("shapes", {}).values():
             for seg in shape["outline"]:
                 for k in ("start", "end"):
                     if k in seg:
-                        seg[k] = [seg[k][0] * 0.25, seg[k][1]]
+                        seg[k] = [seg[k][0] * 0.75, seg[k][1]]
                 if "controls" in seg:
-                    seg["controls"] = [[c[0] * 0.25, c[1]] for c in seg["controls"]]
+                    seg["controls"] = [[c[0] * 0.75, c[1]] for c in seg["controls"]]
             if shape.get("grain"):
-                shape["grain"] = [[c[0] * 0.25, c[1]] for c in shape["grain"]]
+                shape["grain"] = [[c[0] * 0.75, c[1]] for c in shape["grain"]]
             if shape.get("notches"):
-                shape["notches"] = [[c[0] * 0.25, c[1]] for c in shape["notches"]]
+                shape["notches"] = [[c[0] * 0.75, c[1]] for c in shape["notches"]]
     g["sizes"], g["default_size"] = ["M"], "M"
     for p in g["panels"]:
         if "shapes" in p:
@@ -365,7 +365,10 @@ def test_a_garment_that_cannot_dress_is_told_per_size(shop, procs):
         v = wait_dressing(client, key, r.json()["id"], 1)
         rep = v["dressing"]["M"]
         assert rep["status"] == "failed" and rep["ok"] is False, rep
-        assert rep["message"], rep
+        assert rep.get("open_seams") and rep["message"].startswith("failed: seams still"), rep
+        # (measured: the centre back 17.6 cm open with the body 1.1 cm between its sides and
+        # the cloth at τ; four darts at τ)
+        assert all("too small" in s["reason"] for s in rep["open_seams"]), rep["open_seams"]
 
 
 def test_a_check_whose_worker_died_runs_again_then_fails(shop):

@@ -18,7 +18,12 @@ meet) is taken from the 3D placement: the pairing whose endpoints lie closer tog
 A stitch whose sides differ in length by more than 2 % (GarmentCode gathers the longer side)
 gets ``ease`` = the difference rounded up plus 1 % and kind ``gather`` (> 10 %) or ``eased``.
 The 3D placement is kept in each panel's ``placement.transform`` and turned into hints (body
-part, front/back).
+part, front/back; a cuff is on the limb of the panel it is sewn to, a waistband on the legs).
+That placement was made for GarmentCode's body: :func:`catwalk.garment.place.place_panels` keeps
+of it only where a torso or skirt panel sits across the body, and, for a sleeve's or trouser
+leg's halves (and their cuffs), which pattern direction runs along the limb and which edge is
+the outer seam; the panels are then hung from our body's landmarks and wrapped round its limbs.
+Without a type given, a garment with trouser legs and a bodice is a ``jumpsuit``.
 """
 
 from __future__ import annotations
@@ -134,12 +139,28 @@ def _hints(name: str, ptype: str, centre3d: np.ndarray) -> Placement:
         part = "left_arm" if x > 0 else "right_arm"
     elif ptype == "leg":
         part = "left_leg" if x > 0 else "right_leg"
-    elif ptype == "skirt":
+    elif ptype in ("skirt", "waistband"):   # (a waistband hangs at the waist, not the neck)
         part = "legs"
     else:
         part = "torso"
     side = "front" if z >= 0 else "back"
     return Placement(part=part, side=side, wrap=part != "torso" or True)
+
+
+def _limb_parts_of_cuffs(panels: list[Panel], seams: list[Seam]) -> None:
+    """A cuff is on the limb of the sleeve or trouser leg it is sewn to (a trouser cuff lies
+    within the torso's width, where :func:`_hints` alone would put it on the torso)."""
+    part = {p.name: p.placement.part for p in panels}
+    for p in panels:
+        if p.type != "cuff":
+            continue
+        for s in seams:
+            other = s.b.panel if s.a.panel == p.name else s.a.panel if s.b.panel == p.name \
+                else None
+            if other is not None and part[other] in ("left_arm", "right_arm", "left_leg",
+                                                      "right_leg"):
+                p.placement.part = part[other]
+                break
 
 
 def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: str | None = None,
@@ -275,12 +296,15 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
             seam.ease = min(0.99, math.ceil(diff * 100.0 + 1.0) / 100.0)
             seam.kind = "gather" if diff > 0.1 else "eased"
         seams.append(seam)
+    _limb_parts_of_cuffs(panels, seams)
     if garment_type is None:
         types = {p.type for p in panels}
         if "skirt" in types and types & {"front", "back"}:
             garment_type = "dress"
         elif "skirt" in types:
             garment_type = "skirt"
+        elif "leg" in types and types & {"front", "back"}:
+            garment_type = "jumpsuit"
         elif "sleeve" in types:
             garment_type = "shirt"
         elif "leg" in types:

@@ -111,8 +111,11 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
     from catwalk.simulate.metrics import BodySurface, penetration
 
     b = res.body
+    surface = BodySurface(b.faces, len(b.vertices))
+    if report["open_seams"]:
+        _explain_open_seams(report["open_seams"], d, b, surface, garment_seam_names(d))
     shown = d.display if d.display is not None else d.state.positions
-    pen = 1e3 * penetration(BodySurface(b.faces, len(b.vertices)), b.vertices, shown)
+    pen = 1e3 * penetration(surface, b.vertices, shown)
     report["max_penetration_mm"] = round(float(pen.max()), 2) if len(pen) else 0.0
     report["p99_penetration_mm"] = round(float(np.percentile(pen, 99)), 2) if len(pen) else 0.0
     # strain: after the strain relief, against the fabric's limit
@@ -142,6 +145,61 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
     return report, (res if checks["seams_welded"] else None)
 
 
+# why a seam stayed open: the body lies between its two sides by more than this (the panels
+# were placed on either side of a limb or the torso), or the cloth at its points is within this
+# of the fabric's strain limit (the garment is too small or too short there for this body)
+BODY_BETWEEN_MM = 5.0
+AT_LIMIT = 0.005
+
+
+def garment_seam_names(d) -> list[str]:
+    """The seams' names as the dressing reports them (a seam without a name: ``seam k``)."""
+    return [sm.name or f"seam {k}" for k, sm in enumerate(d.cloth.garment.seams)]
+
+
+def _explain_open_seams(open_seams: list[dict], d, body, surface, names: list[str]) -> None:
+    """Add to each open seam where its widest pair is: how far the body lies between its two
+    sides, the largest strain of the springs at them, and the reason that makes."""
+    from catwalk.simulate.metrics import penetration
+    from catwalk.simulate.walking import strain_of
+
+    m, x = d.model, d.state.positions
+    gap = np.linalg.norm(x[m.seam_b] - x[m.seam_a], axis=1)
+    strain = strain_of(m, x)
+    ends_a, ends_b = m.spring_a[:len(strain)], m.spring_b[:len(strain)]
+    tau = float(d.cloth.fabric.tau)
+    for entry in open_seams:
+        pairs = np.nonzero(np.array([names[int(i)] == entry["seam"] for i in m.seam_id]))[0]
+        if not len(pairs):
+            continue
+        k = pairs[np.argmax(gap[pairs])]
+        a, b = x[m.seam_a[k]], x[m.seam_b[k]]
+        line = a[None] + np.linspace(0.0, 1.0, 21)[:, None] * (b - a)[None]
+        between = 1e3 * float(penetration(surface, body.vertices, line).max())
+        sides = (m.seam_a[k], m.seam_b[k])
+        near = np.isin(ends_a, sides) | np.isin(ends_b, sides)
+        at = float(strain[near].max()) if near.any() else 0.0
+        entry["body_between_mm"] = round(between, 1)
+        entry["strain"] = round(at, 4)
+        entry["reason"] = _reason(between, at, tau)
+
+
+def _reason(between: float, at: float, tau: float) -> str:
+    """Why a seam stayed open, from what was measured at its widest pair: how far the body
+    lies between its sides (mm) and the strain at them against the fabric's τ."""
+    through, stretched = between > BODY_BETWEEN_MM, at >= tau - AT_LIMIT
+    body = f"the body lies between its two sides ({between / 10:.1f} cm)"
+    limit = f"the cloth at it is stretched to the fabric's limit ({at:.3f}, τ {tau:g})"
+    if through and stretched:
+        return (f"{body} and {limit}: the garment is too small there for this body, or its "
+                "panels were placed on either side of it; check the size and the placement")
+    if through:
+        return f"{body}: sewing pulls the panels through the body; check their placement"
+    if stretched:
+        return f"{limit}: the garment is too small or too short there for this body"
+    return "sewing did not pull it shut: check the seam's direction and its sides' lengths"
+
+
 def _message(report: dict, seam_limit_mm: float, tau: float) -> str:
     """One line: what failed, or the figures of a garment that dressed."""
     checks = report["checks"]
@@ -157,10 +215,10 @@ def _message(report: dict, seam_limit_mm: float, tau: float) -> str:
                       f"{-report['top_above_crotch_mm'] / 10:.0f} cm below the crotch; check "
                       "the placement hints)")
     if not checks["seams_welded"]:
-        seams = ", ".join(f"{s['seam']!r} by {s['gap_mm'] / 10:.1f} cm"
+        seams = "; ".join(f"{s['seam']!r} by {s['gap_mm'] / 10:.1f} cm"
+                          + (f" ({s['reason']})" if s.get("reason") else "")
                           for s in report["open_seams"])
-        failed.append(f"seams still open: {seams} (limit {seam_limit_mm / 10:.1f} cm; check the "
-                      "placement hints and seam lengths, or whether the size fits this body)")
+        failed.append(f"seams still open (limit {seam_limit_mm / 10:.1f} cm): {seams}")
     if not checks["no_penetration"]:
         failed.append(f"cloth {pen:.1f} mm inside the body (limit {PENETRATION_LIMIT_MM:g} mm)")
     if not checks["strain_within_limit"]:
