@@ -141,14 +141,15 @@ class Catalogue:
         return self._entries if time.monotonic() - self._checked < CHECK_EVERY_S else None
 
     def entries(self, *, recheck: bool = False) -> dict[str, Entry]:
-        """The garments, read again when a file changed: the folder is looked at once a second
-        at most (a glob and two stats a file cost more than the rest of a catalogue route);
-        ``recheck``: now."""
+        """The garments, read again when a file or a published garment changed: the folder
+        and the database are looked at once a second at most (a glob, two stats a file and a
+        query cost more than the rest of a catalogue route); ``recheck``: now. The look is
+        claimed before it is taken, so requests meanwhile keep the entries they have."""
         now = time.monotonic()
         if not recheck and now - self._checked < CHECK_EVERY_S:
             return self._entries
-        stamp = self._current_stamp()
         self._checked = now
+        stamp = self._current_stamp()
         with self._lock:
             if stamp != self._stamp:
                 self._entries, self._stamp = self._load(stamp[1]), stamp
