@@ -422,3 +422,28 @@ def test_a_check_whose_worker_died_runs_again_then_fails(shop):
         assert v.dressing["S"] == {"status": "dressed", "ok": True}     # kept
         assert v.dressing["M"]["status"] == "failed"
         assert "stopped 3 times" in v.dressing["M"]["message"]
+
+
+def test_two_changes_at_once_one_wins_the_other_is_a_409(shop):
+    """Version n + 1 is made once: a second change that finds it made (its folder or its row)
+    is answered 409 and leaves nothing behind."""
+    from catwalk.service import merchants
+    from catwalk.service.api.app import create_app
+
+    _, config = shop
+    with TestClient(create_app(config, recovery=False)) as client:
+        key = merchants.create(config, "racing-shop")
+        skirt = skirt_json(name="Raced skirt")
+        gid = upload_json(client, key, skirt, textures(skirt)).json()["id"]
+        # another request is making version 2 right now: its folder is there
+        racing = config.storage_dir / "garments" / gid / "2"
+        racing.mkdir(parents=True)
+        (racing / "garment.json").write_text("{}")
+        r = upload_json(client, key, skirt, method="PUT", gid=gid)
+        assert r.status_code == 409, r.text
+        assert r.json()["error"]["code"] == "conflict" and "send it again" in r.text
+        item = client.get(f"/api/merchant/garments/{gid}", headers=bearer(key)).json()
+        assert item["version"] == 1 and [v["version"] for v in item["versions"]] == [1]
+        hidden = [p for p in (config.storage_dir / "garments").iterdir()
+                  if p.name.startswith(".")]
+        assert hidden == []   # the checked upload's folder removed

@@ -51,6 +51,14 @@ class UploadRejected(InputError):
         self.problems = problems
 
 
+class Conflict(InputError):
+    """Another request made the same version of the garment at the same time (HTTP 409)."""
+
+    def __init__(self, garment_id: str):
+        super().__init__(f"garment {garment_id!r} was changed by another request at the same "
+                         "time; send it again", "version")
+
+
 @dataclass
 class Upload:
     """What a merchant sent: the garment JSON (``garment``), or a DXF and its markup; texture
@@ -217,8 +225,7 @@ def store(config: Config, storage: Storage, merchant_id: str, prepared: Prepared
             os.rename(prepared.folder, final)   # fails if another upload took version n
         except OSError:
             shutil.rmtree(prepared.folder, ignore_errors=True)
-            raise InputError(f"garment {garment_id!r} was changed by another request at the "
-                             "same time; send it again", "version") from None
+            raise Conflict(garment_id) from None
         try:
             if n == 1:
                 s.add(MerchantGarmentRow(id=garment_id, merchant_id=merchant_id, name=g.name,
@@ -232,8 +239,7 @@ def store(config: Config, storage: Storage, merchant_id: str, prepared: Prepared
                                  .values(version=n, name=g.name, type=g.type, updated_at=now)
                                  .execution_options(synchronize_session=False))
                 if done.rowcount != 1:
-                    raise InputError(f"garment {garment_id!r} was changed by another request "
-                                     "at the same time; send it again", "version")
+                    raise Conflict(garment_id)
             s.add(GarmentVersionRow(garment_id=garment_id, version=n, content=prepared.content,
                                     created_at=now, sizes=list(g.sizes),
                                     warnings=prepared.warnings,

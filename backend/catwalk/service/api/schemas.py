@@ -188,7 +188,8 @@ _WHY = {
     400: "unreadable: JSON that does not parse, a multipart body that cannot be read, a "
          "`Range` that is not `bytes=start-end` (code `bad_range`)",
     404: "unknown id (or the file it names missing)",
-    409: "not possible in the try-on's state (`finished`, `not_done`)",
+    409: "not possible in the try-on's state (`finished`, `not_done`); a garment changed by "
+         "another request at the same time (`conflict`)",
     413: "the request body is over `CATWALK_UPLOAD_MAX_BYTES` (`too_large`)",
     415: "a `Content-Type` (or a scan type) this route does not take",
     416: "a `Range` no byte of the file satisfies (`bad_range`, `Content-Range: bytes */size`)",

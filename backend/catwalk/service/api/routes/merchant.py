@@ -173,7 +173,8 @@ async def get_garment(garment_id: str, config: Config = Depends(deps.config),
 
 
 @router.put("/garments/{garment_id}", response_model=schemas.GarmentVersionCreated,
-            openapi_extra=_UPLOAD, responses=schemas.errors(400, 401, 404, 413, 415, 422, 503))
+            openapi_extra=_UPLOAD,
+            responses=schemas.errors(400, 401, 404, 409, 413, 415, 422, 503))
 async def update_garment(garment_id: str, request: Request,
                          config: Config = Depends(deps.config), storage=Depends(deps.storage),
                          catalogue=Depends(deps.catalogue), who=Depends(merchant)):
@@ -184,6 +185,8 @@ async def update_garment(garment_id: str, request: Request,
         return await _own(_save, config, storage, catalogue, who, upload, garment_id)
     except mg.UploadRejected as exc:
         return _rejected(exc)
+    except mg.Conflict as exc:
+        raise ApiError(409, str(exc), "version") from None
 
 
 @router.delete("/garments/{garment_id}", status_code=204, response_class=Response,
