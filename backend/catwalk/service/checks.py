@@ -126,13 +126,12 @@ def _store_dressed(storage: Storage, folder, garment_id: str, content: str, size
                    thumbnail: bool, res) -> None:
     """The dressed size as a meshopt .glb beside the version; the default size also as the
     catalogue's thumbnail and dressed view (the paths the API's thumbnails look for)."""
-    from catwalk.service.keys import engine_version
-    from catwalk.service.thumbnails import dressed_files
+    from catwalk.service.thumbnails import dressed_files, thumbnail_path
 
     (storage.root / "garments").mkdir(parents=True, exist_ok=True)
     web, png = dressed_files(res, storage.root / "garments")
     storage.write(folder / "dressed" / f"{size}.glb", web)
     if thumbnail:
-        path = storage.thumbnail(garment_id, f"{content}-{engine_version()[-16:]}")
+        path = thumbnail_path(storage, garment_id, content)
         storage.write(path.with_suffix(".glb"), web)
         storage.write(path, png)

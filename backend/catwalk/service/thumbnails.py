@@ -57,6 +57,14 @@ def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str
     return out
 
 
+def thumbnail_path(storage, garment_id: str, version: str) -> Path:
+    """Where a garment version's thumbnail is (its dressed .glb beside it): keyed by the
+    garment's version and the engine's, so new code draws them anew."""
+    from catwalk.service.keys import engine_version
+
+    return storage.thumbnail(garment_id, f"{version}-{engine_version()[-16:]}")
+
+
 class Thumbnails:
     """Makes each missing thumbnail once (one at a time per garment version)."""
 
@@ -66,10 +74,7 @@ class Thumbnails:
         self._failed: set[tuple[str, str]] = set()
 
     def path(self, entry) -> Path:
-        """Keyed by the garment's version and the engine's: new code draws them anew."""
-        from catwalk.service.keys import engine_version
-
-        return self.storage.thumbnail(entry.id, f"{entry.version}-{engine_version()[-16:]}")
+        return thumbnail_path(self.storage, entry.id, entry.version)
 
     def ensure(self, entry) -> asyncio.Task | None:
         """Start making the thumbnail if it is missing; the task (None when it exists or
@@ -84,10 +89,12 @@ class Thumbnails:
         return task
 
     async def _make(self, entry) -> None:
+        from catwalk.simulate.fitcheck import sample_for
+
         key = (entry.id, entry.version)
         g = entry.garment
         size = g.size(None)
-        sample = g.fit.get(size) or ("male-M" if g.type == "trousers" else "female-M")
+        sample = sample_for(g, size)
         try:
             await self.maker.run(render_thumbnail, str(entry.path), size, sample,
                                  str(self.storage.samples_dir()), str(self.path(entry)),

@@ -169,7 +169,8 @@ def _explain_open_seams(open_seams: list[dict], d, body, surface, names: list[st
     ends_a, ends_b = m.spring_a[:len(strain)], m.spring_b[:len(strain)]
     tau = float(d.cloth.fabric.tau)
     for entry in open_seams:
-        pairs = np.nonzero(np.array([names[int(i)] == entry["seam"] for i in m.seam_id]))[0]
+        ids = [k for k, name in enumerate(names) if name == entry["seam"]]
+        pairs = np.nonzero(np.isin(m.seam_id, ids))[0]
         if not len(pairs):
             continue
         k = pairs[np.argmax(gap[pairs])]
