@@ -180,8 +180,11 @@ def test_scan_upload_units_and_axes_detected(client, storage):
     r = client.post("/api/bodies", files={"scan": ("scan.ply", io.BytesIO(data))})
     assert r.status_code == 201, r.text
     out = r.json()
-    assert out["source"] == "scan" and out["fit"] == "measurements"
+    assert out["source"] == "scan" and out["fit"] == "surface"
     assert out["scan"]["units"] == "mm" and out["scan"]["up_axis"] == "+Z"
+    # the template registered to the scan's own surface: within a millimetre both ways
+    dist = out["scan"]["surface_distance_mm"]
+    assert dist["scan_to_body"]["mean"] < 1.0 and dist["body_to_scan"]["mean"] < 1.0, dist
     assert out["sex"] == "female" and out["sex_inferred"] is True
     assert client.get(f"/api/bodies/{out['id']}").json()["scan"] == out["scan"]
     assert abs(out["measurements"]["height"] - b.vertices[:, 1].max()) < 0.01

@@ -1,4 +1,5 @@
-"""``catwalk body info FILE`` and ``catwalk body measure FILE``: scans and measurements."""
+"""``catwalk body info FILE``, ``catwalk body measure FILE`` and ``catwalk body from-scan SCAN``:
+scans, their measurements, and the shopper's own body registered to a scan."""
 
 from __future__ import annotations
 
@@ -72,7 +73,51 @@ def _measure(args) -> int:
     return 0
 
 
+def _from_scan(args) -> int:
+    import sys
+    import time
+
+    from catwalk.body.from_scan import body_from_scan
+    from catwalk.exchange.gltf import glb_bytes
+    from catwalk.exchange.scan import load_scan
+    from catwalk.fileio import atomic_path, check_writable
+
+    if not str(args.output).lower().endswith(".glb"):
+        raise InputError(f"-o {args.output}: the body is written as a .glb file")
+    check_writable(args.output, "-o")
+    if args.report:
+        check_writable(args.report, "--report")
+    t0 = time.perf_counter()
+    scan = load_scan(args.scan)
+
+    def progress(stage, seconds):
+        print(f"{stage}: done at {seconds:.1f} s", file=sys.stderr)
+
+    load_s = time.perf_counter() - t0
+    progress("load", load_s)
+    try:
+        body, report = body_from_scan(scan, sex=args.sex, progress=progress)
+    except InputError as exc:   # name the file: "SCAN: scan: covers 40 % of a body; …"
+        raise InputError(f"{scan.path}: {exc}") from None
+    data = glb_bytes(body)
+    info = {k: v for k, v in scan.info().items() if k not in ("file", "transform")}
+    report = {"file": str(args.output), "scan": info, **report}
+    report["seconds"] = {"load": round(load_s, 3), **report["seconds"],
+                         "total": round(time.perf_counter() - t0, 3)}
+    with atomic_path(args.output, "-o") as tmp:
+        tmp.write_bytes(data)
+    text = dumps(report)
+    if args.report:
+        with atomic_path(args.report, "--report") as tmp:
+            tmp.write_text(text + "\n")
+    print(text)
+    return 0
+
+
 def register(top, groups) -> None:
+    from catwalk.bench import scan as bench_scan
+
+    bench_scan.register(groups["bench"])
     body = groups["body"]
     p = body.add_parser(
         "info", help="load a body scan (OBJ, PLY, STL, GLB) and report units, axes, holes",
@@ -94,3 +139,18 @@ def register(top, groups) -> None:
                    help="female: bust, underbust and bust span; male: chest, no underbust or "
                         "bust span")
     p.set_defaults(func=_measure)
+
+    p = body.add_parser(
+        "from-scan", help="a rigged body registered to a scan's surface → .glb",
+        description="Register the MakeHuman template to a body scan (OBJ, PLY, STL, GLB; any "
+                    "units and up axis; holes allowed; standing in an A-pose or near it): "
+                    "aligned, fitted to the scan's measurements, its arms posed to the scan's, "
+                    "then non-rigidly registered to the surface and rigged again. Writes a "
+                    "body like `catwalk body make`'s and prints a report (surface distances "
+                    "both ways in mm, measurements of both, seconds). See docs/bodies.md.")
+    p.add_argument("scan", help="scan file (.obj, .ply, .stl, .glb)")
+    p.add_argument("-o", "--output", required=True, help="the body .glb to write")
+    p.add_argument("--report", default=None, help="also write the report (JSON) here")
+    p.add_argument("--sex", choices=("female", "male"), default=None,
+                   help="the body model's sex (default: inferred from the scan's shape)")
+    p.set_defaults(func=_from_scan)

@@ -1,9 +1,11 @@
 """A shopper's body: made from measurements or from a scan, stored, deleted with all it made.
 
-The heavy part (measuring a scan, fitting the MakeHuman body: 1–3 s of CPU) runs in a process
+The heavy part (fitting the MakeHuman body: 1–3 s of CPU; registering it to a scan: ≈ 10 s for
+300 k faces) runs in a process
 of the API's own pool (:class:`BodyMaker`), never on the API's event loop, and writes
 ``bodies/<id>/body.glb``; the database row is added only once the files are there. A scan
-becomes a MakeHuman body fitted to the scan's measurements (``"fit": "measurements"``).
+becomes the MakeHuman template registered to the scan's surface (``"fit": "surface"``,
+:mod:`catwalk.body.from_scan`): the shopper's own shape walks.
 
 A scan and its measurements are personal data: they are never logged (log lines carry the
 body's id and the outcome only), never listed, and :func:`delete_body` removes the scan, the
@@ -18,8 +20,6 @@ import multiprocessing
 import shutil
 from pathlib import Path
 
-from catwalk.errors import InputError
-
 # the measurements shown for a body (metres), in this order
 SHOWN = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
          "arm_length", "upper_arm_girth", "neck_girth")
@@ -30,15 +30,6 @@ def shown(measured: dict) -> dict:
     """The measurements shown for a body, metres rounded to 0.1 mm."""
     return {k: round(float(measured[k]), 4) for k in SHOWN
             if isinstance(measured.get(k), (int, float))}
-
-
-def infer_sex(m: dict) -> str:
-    """Female or male from a scan's shape: the bust over the underbust and the hips over the
-    waist (MakeHuman bodies XS–XXL: women ≥ 10 / 24 cm, men ≤ 8 / 14 cm)."""
-    bust_drop = float(m.get("bust", 0.0)) - float(m.get("underbust") or m.get("bust", 0.0))
-    hip_drop = float(m.get("hips", 0.0)) - float(m.get("waist", 0.0))
-    score = (bust_drop - 0.09) / 0.02 + (hip_drop - 0.19) / 0.05
-    return "female" if score > 0 else "male"
 
 
 def _write_body(body, out: Path) -> None:
@@ -59,27 +50,22 @@ def make_from_measurements(out: str, sex: str, values: dict) -> dict:
 
 
 def make_from_scan(scan_path: str, out: str, sex: str | None) -> dict:
-    """(In a pool process.) Measure the scan, make a body of its measurements, write it."""
-    from catwalk.body.make import make_body
-    from catwalk.body.measure import measure_body
+    """(In a pool process.) Register the template to the scan, write the body."""
+    from catwalk.body.from_scan import body_from_scan
     from catwalk.exchange.scan import load_scan
 
     scan = load_scan(scan_path, name="scan")
-    try:
-        m = measure_body(scan.vertices, scan.faces, sex=sex)
-    except InputError as exc:
-        raise InputError(f"scan: not measurable as a standing human body ({exc})",
-                         "scan") from None
-    inferred = sex is None
-    sex = sex or infer_sex(m)
-    body = make_body(sex=sex, height=m["height"], bust=m["bust"], waist=m["waist"],
-                     hips=m["hips"])
+    body, report = body_from_scan(scan, sex=sex)
     _write_body(body, Path(out))
-    return {"sex": sex, "sex_inferred": inferred, "measurements": shown(m),
-            "model_measurements": shown(body.meta["measured"]),
+    both = report["measurements"]
+    return {"sex": report["sex"], "sex_inferred": sex is None,
+            "measurements": shown({k: v["scan"] for k, v in both.items()}),
+            "model_measurements": shown({k: v["body"] for k, v in both.items()}),
             "scan": {"units": scan.units, "up_axis": scan.up, "forward_axis": scan.forward,
                      "vertices": int(len(scan.vertices)), "faces": int(len(scan.faces)),
-                     "holes": scan.holes}}
+                     "holes": scan.holes,
+                     "surface_distance_mm": {"scan_to_body": report["scan_to_body_mm"],
+                                             "body_to_scan": report["body_to_scan_mm"]}}}
 
 
 def _warm() -> bool:

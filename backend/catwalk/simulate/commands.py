@@ -163,7 +163,9 @@ def _tryon_cmd(args) -> int:
 def _common(p, output_help: str) -> None:
     from catwalk.simulate.settings import PRESETS
 
-    p.add_argument("--body", required=True, help="a body .glb (`catwalk body make`)")
+    p.add_argument("--body", required=True,
+                   help="a body .glb (`catwalk body make`, `catwalk body from-scan`) or a "
+                        "scan (OBJ, PLY, STL, or a GLB with no skin), registered first")
     p.add_argument("--garment", required=True, help="a garment .json (garments/*.json)")
     p.add_argument("--size", help="garment size (default: the garment's default size)")
     p.add_argument("--fabric", help="fabric preset instead of the garment's (e.g. denim)")

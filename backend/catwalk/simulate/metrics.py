@@ -16,11 +16,10 @@ from catwalk.render.raster import incident_faces, vertex_normals
 
 
 @numba.njit(cache=True)
-def _signed(points, near, verts, normals, faces, ptr, inc, out):
+def _closest(points, near, verts, normals, faces, ptr, inc, out_d, out_q, out_t):
     for i in range(points.shape[0]):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
         best = 1e30
-        sd = 1e30
         for j in range(near.shape[1]):
             v = near[i, j]
             for t in range(ptr[v], ptr[v + 1]):
@@ -42,27 +41,41 @@ def _signed(points, near, verts, normals, faces, ptr, inc, out):
                     nz = s * normals[a, 2] + u * normals[b, 2] + w * normals[c, 2]
                     dn = dx * nx + dy * ny + dz * nz
                     d = np.sqrt(d2)
-                    sd = d if dn >= 0.0 else -d
-        out[i] = sd
+                    out_d[i] = d if dn >= 0.0 else -d
+                    out_q[i, 0] = qx
+                    out_q[i, 1] = qy
+                    out_q[i, 2] = qz
+                    out_t[i] = f
 
 
 class BodySurface:
-    """Signed distances of points to one posed body surface."""
+    """Signed distances of points to one posed body surface (or any triangle mesh)."""
 
     def __init__(self, faces: np.ndarray, n_vertices: int, k: int = 8):
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.ptr, self.inc = incident_faces(self.faces, n_vertices)
         self.k = int(k)
 
-    def signed_distance(self, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
+    def closest(self, vertices: np.ndarray, points: np.ndarray, tree: cKDTree | None = None,
+                normals: np.ndarray | None = None):
+        """(closest surface points (P, 3), signed distances (P,), their triangles (P,)).
+
+        ``tree`` and ``normals``: a cKDTree of ``vertices`` and their vertex normals, already
+        made (several queries on one surface)."""
         v = np.ascontiguousarray(vertices, dtype=np.float64)
         p = np.ascontiguousarray(points, dtype=np.float64)
-        nrm = vertex_normals(v, self.faces)
-        _, near = cKDTree(v).query(p, k=self.k)
-        out = np.empty(len(p))
-        _signed(p, np.ascontiguousarray(near, dtype=np.int64), v, nrm, self.faces, self.ptr,
-                self.inc, out)
-        return out
+        nrm = vertex_normals(v, self.faces) if normals is None else normals
+        k = min(self.k, len(v))
+        _, near = (tree or cKDTree(v)).query(p, k=k)
+        near = np.ascontiguousarray(np.reshape(near, (len(p), k)), dtype=np.int64)
+        d = np.empty(len(p))
+        q = np.empty((len(p), 3))
+        t = np.empty(len(p), dtype=np.int64)
+        _closest(p, near, v, nrm, self.faces, self.ptr, self.inc, d, q, t)
+        return q, d, t
+
+    def signed_distance(self, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
+        return self.closest(vertices, points)[1]
 
 
 def penetration(surface: BodySurface, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:

@@ -105,19 +105,41 @@ def static_frames(dressed: Dressed, name: str | None = None) -> GarmentFrames:
 
 # ---------------------------------------------------------------------------- the inputs
 
-def load_body(body) -> Body:
-    """A body ready to dress and walk: a :class:`Body`, or a .glb from ``catwalk body make``
-    as a path, bytes or a file object."""
+SCAN_SUFFIXES = (".obj", ".ply", ".stl")
+
+
+def load_body(body, progress=None) -> Body:
+    """A body ready to dress and walk: a :class:`Body`, a .glb from ``catwalk body make`` or
+    ``catwalk body from-scan`` as a path, bytes or a file object, or a scan's file (OBJ, PLY,
+    STL, or a GLB with no skin), registered to the template as ``catwalk body from-scan``
+    does."""
     if not isinstance(body, Body):
         from catwalk.exchange.gltf import read_body
 
         if isinstance(body, (str, Path)) and not Path(body).is_file():
             raise InputError(f"body {body}: no such file", "body")
-        body = read_body(body)
+        if isinstance(body, (str, Path)) and Path(body).suffix.lower() in SCAN_SUFFIXES:
+            return body_of_scan(body, progress)
+        read = read_body(body)
+        if read.skeleton is None and isinstance(body, (str, Path)):
+            return body_of_scan(body, progress)
+        body = read
     if body.parts is None or not body.landmarks:
         raise InputError("body: the body has no parts or landmarks; make it with "
                          "`catwalk body make` (or POST /api/bodies)", "body")
     return body
+
+
+def body_of_scan(path, progress=None) -> Body:
+    """The template registered to the scan at ``path`` (see :mod:`catwalk.body.from_scan`)."""
+    from catwalk.body.from_scan import body_from_scan
+    from catwalk.exchange.scan import load_scan
+
+    scan = load_scan(path)
+    try:
+        return body_from_scan(scan, progress=progress)[0]
+    except InputError as exc:
+        raise InputError(f"body {scan.path}: {exc}", "body") from None
 
 
 def load_checked_garment(garment, base_dir: str | Path | None = None) -> Garment:

@@ -136,7 +136,7 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
                                    timeout=config.body_timeout_s)
             # keyed by the sex the body was made with, told or inferred alike
             content_key = await asyncio.to_thread(keys.scan_key, data, made["sex"])
-            row = BodyRow(id=body_id, source="scan", fit="measurements", sex=made["sex"],
+            row = BodyRow(id=body_id, source="scan", fit="surface", sex=made["sex"],
                           content_key=content_key, scan_format=fmt,
                           measurements={**made["measurements"],
                                         "_sex_inferred": made["sex_inferred"],

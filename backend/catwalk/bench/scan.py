@@ -1,0 +1,82 @@
+"""``catwalk bench scan``: a scan of a body the template was never fitted to (see
+:mod:`catwalk.body.synthetic`), at several face counts, registered as ``catwalk body
+from-scan`` does (loading the file included), on one core by default; the time and the
+distance of the registered body's surface to the true surface (both directions together)."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+
+from catwalk.bench.cloth import machine
+from catwalk.errors import InputError
+
+FACES = (50_000, 300_000, 2_000_000)
+
+
+def run_one(case_name: str, faces: int, folder: Path, seed: int = 0) -> dict:
+    from catwalk.body import synthetic as sy
+    from catwalk.body.from_scan import body_from_scan
+    from catwalk.exchange.scan import MAX_FACES, load_scan
+
+    truth = sy.true_body(sy.case(case_name))
+    v, f = sy.scan_of(truth, faces=faces, seed=seed)
+    if len(f) > MAX_FACES:   # subdivision overshoots a little: keep within what a scan may be
+        f = f[:MAX_FACES]
+    path = folder / f"{case_name}-{faces}.ply"
+    sy.write_scan(path, v, f)
+    t0 = time.perf_counter()
+    scan = load_scan(path)
+    body, report = body_from_scan(scan)
+    seconds = time.perf_counter() - t0
+    dist = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces,
+                                body.vertices, body.faces)
+    girth_cm = {k: round(100 * (m["body"] - m["scan"]), 2)
+                for k, m in report["measurements"].items()
+                if k in ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")}
+    return {"case": case_name, "faces": int(len(scan.faces)), "seconds": round(seconds, 2),
+            **dist, "scan_to_body_mm": report["scan_to_body_mm"],
+            "body_to_scan_mm": report["body_to_scan_mm"], "girth_error_cm": girth_cm,
+            "stages_s": report["seconds"]}
+
+
+def main(args) -> int:
+    try:
+        faces = [int(x) for x in args.faces.split(",") if x.strip()]
+    except ValueError:
+        raise InputError(f"--faces: comma-separated face counts, got {args.faces!r}") from None
+    if not faces or any(not 1_000 <= n <= 2_000_000 for n in faces):
+        raise InputError("--faces: each count within 1,000–2,000,000")
+    if args.cores < 1 or args.cores > (os.cpu_count() or 1):
+        raise InputError(f"--cores: 1–{os.cpu_count()}")
+    if hasattr(os, "sched_setaffinity"):
+        os.sched_setaffinity(0, set(sorted(os.sched_getaffinity(0))[: args.cores]))
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="catwalk-bench-scan-") as tmp:
+        run_one(args.case, 20_000, Path(tmp))        # warm-up: imports, numba caches
+        for n in faces:
+            rows.append(run_one(args.case, n, Path(tmp)))
+    if args.json:
+        print(json.dumps({"scans": rows}))
+        return 0
+    print(f"Scan registration, case {args.case!r} ({args.cores} core(s)); machine: {machine()}")
+    print(f"{'faces':>9} {'seconds':>8} {'mean mm':>8} {'p99 mm':>7} {'max mm':>7}  "
+          f"girth error (cm, body − scan)")
+    for r in rows:
+        print(f"{r['faces']:>9,} {r['seconds']:>8.2f} {r['mean_mm']:>8.2f} {r['p99_mm']:>7.2f} "
+              f"{r['max_mm']:>7.2f}  {r['girth_error_cm']}")
+    return 0
+
+
+def register(bench) -> None:
+    p = bench.add_parser("scan", help="scan → registered body: time and distance to the truth")
+    p.add_argument("--faces", default=",".join(str(n) for n in FACES),
+                   help="comma-separated face counts of the scans (default: %(default)s)")
+    p.add_argument("--case", default="belly", choices=("belly", "shoulders", "hip"),
+                   help="the true body (catwalk.body.synthetic.CASES)")
+    p.add_argument("--cores", type=int, default=1, help="CPU cores to run on (default 1)")
+    p.add_argument("--json", action="store_true", help="JSON: {\"scans\": [...]}")
+    p.set_defaults(func=main)

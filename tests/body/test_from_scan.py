@@ -1,0 +1,209 @@
+"""The shopper's own body from a scan: the template registered to scans of bodies it was never
+fitted to (catwalk.body.synthetic: other macro mixes, a belly, broad shoulders, a raised hip,
+arms lowered; remeshed, 1 mm noise, holes, millimetres, Z up, facing −Y), then rigged, walked
+and dressed."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from catwalk.body import synthetic as sy
+from catwalk.body.from_scan import body_from_scan
+from catwalk.cli import main
+from catwalk.exchange.scan import load_scan
+
+FACES = 80_000
+GIRTHS = ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")
+
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _scan_file(name, folder):
+    truth = sy.true_body(sy.case(name))
+    v, f = sy.scan_of(truth, faces=FACES, seed=1)
+    path = folder / f"{name}.ply"
+    sy.write_scan(path, v, f)
+    return truth, path
+
+
+@pytest.fixture(scope="module")
+def hip_scan(tmp_path_factory):
+    """The hip case's scan file (arms lowered 10° and forwards 5° from the A-pose)."""
+    return _scan_file("hip", tmp_path_factory.mktemp("scan"))[1]
+
+
+@pytest.fixture(scope="module", params=[c.name for c in sy.CASES])
+def registered(request, tmp_path_factory):
+    truth, path = _scan_file(request.param, tmp_path_factory.mktemp("scan"))
+    scan = load_scan(path)
+    body, report = body_from_scan(scan)
+    return truth, scan, body, report, path
+
+
+def test_the_registered_surface_is_the_true_one(registered):
+    truth, scan, body, report, _ = registered
+    assert (scan.units, scan.up, scan.forward) == ("mm", "+Z", "-Y")
+    assert scan.holes > 0 and not scan.watertight
+    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces, body.vertices,
+                             body.faces)
+    assert d["mean_mm"] <= 1.5 and d["p99_mm"] <= 4.0, d
+    # the report's own distances (against the noisy scan, holes left out) say as much
+    assert report["scan_to_body_mm"]["mean"] < 1.5 and report["body_to_scan_mm"]["mean"] < 1.5
+    assert report["coverage"] > 0.85
+    assert report["sex"] == truth.case.sex
+
+
+def test_girths_match_the_scan(registered):
+    _, _, body, report, _ = registered
+    m = report["measurements"]
+    for k in GIRTHS:
+        if k in m:
+            assert abs(m[k]["body"] - m[k]["scan"]) < 0.01, (k, m[k])
+    assert body.meta["fit"] == "surface"
+    assert set(body.landmarks) >= {"bust", "waist", "hips", "crotch"}
+
+
+def test_arms_are_posed_as_the_scans(registered):
+    truth, _, _, report, _ = registered
+    want = truth.case.arms_deg[0]
+    for side in ("l", "r"):
+        got = report["registration"]["arms_deg"][side]["abduction"]
+        # the template's arms rest at MakeHuman's A-pose; shape differences bias a few degrees
+        assert abs(got - want) < 8.0, (side, got, want)
+
+
+def _walk(body):
+    from catwalk.motion.gait import walk_motion
+    from catwalk.motion.skinning import body_frames
+
+    m = walk_motion(body, 2.0, speed=1.2, fps=30)
+    return m, body_frames(body, m)[0]
+
+
+def _flipped(body, m, verts) -> int:
+    """Triangles whose normal turns against where their main joint carries it (the most in
+    any frame): a skinning fold, not a rotation."""
+    from catwalk.motion.skinning import joint_world_matrices
+
+    f = body.faces
+
+    def normals(x):
+        n = np.cross(x[f[:, 1]] - x[f[:, 0]], x[f[:, 2]] - x[f[:, 0]])
+        return n / (np.linalg.norm(n, axis=1, keepdims=True) + 1e-30)
+
+    rest = normals(body.vertices)
+    mats = joint_world_matrices(body.skeleton, m.rotations, m.translations) @ \
+        body.skeleton.inverse_bind
+    main_joint = body.skin_joints[f[:, 0], np.argmax(body.skin_weights[f[:, 0]], axis=1)]
+    worst = 0
+    for i in range(0, m.frames, 3):
+        carried = np.einsum("tij,tj->ti", mats[i][main_joint][:, :3, :3], rest)
+        worst = max(worst, int(np.sum(np.sum(normals(verts[i]) * carried, 1) < 0.0)))
+    return worst
+
+
+def test_the_scan_body_walks_cleanly(registered):
+    from catwalk.body.rig import measured_base_body
+    from catwalk.motion.gait import foot_sliding
+
+    truth, _, body, _, _ = registered
+    m, verts = _walk(body)
+    assert foot_sliding(body, m, verts).max() < 0.01
+    q = m.rotations
+    assert np.sum(q[1:] * q[:-1], axis=-1).min() > 0.9          # no joint flips
+    assert np.isfinite(verts).all()
+    # MakeHuman's own skinning folds a few crease triangles (finger joints, armpits) on any
+    # body; the scan's body folds no more than the template does
+    base = measured_base_body(0.0 if truth.case.sex == "female" else 1.0)
+    assert _flipped(body, m, verts) <= _flipped(base, *_walk(base))
+
+
+def test_cli_from_scan_writes_a_body_and_its_report(hip_scan, tmp_path, capsys):
+    from catwalk.exchange.gltf import read_body
+
+    path = hip_scan
+    out, rep = tmp_path / "me.glb", tmp_path / "fit.json"
+    assert main(["body", "from-scan", str(path), "-o", str(out), "--report", str(rep)]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    written = json.loads(rep.read_text())
+    assert printed == written
+    for key in ("scan_to_body_mm", "body_to_scan_mm"):
+        assert set(written[key]) == {"mean", "p95", "p99", "max"}
+    assert written["seconds"]["total"] > 0 and written["scan"]["units"] == "mm"
+    assert set(written["measurements"]["waist"]) == {"scan", "body"}
+    body = read_body(out)
+    assert body.skeleton is not None and body.parts is not None and body.landmarks
+
+
+def test_a_tryon_on_a_scan_dresses_outside_the_body(hip_scan, tmp_path, capsys):
+    from catwalk.exchange.gltf import read_body, read_motion, validate
+    from catwalk.exchange.tryon_glb import read_garments
+    from catwalk.motion.skinning import body_frames
+    from catwalk.simulate.metrics import BodySurface, penetration
+
+    out = tmp_path / "tryon.glb"
+    rc = main(["tryon", "--body", str(hip_scan), "--garment",
+               str(REPO / "garments/pencil-skirt.json"), "--seconds", "1", "--preset",
+               "fast", "--h", "0.03", "--quiet", "-o", str(out)])
+    assert rc == 0
+    capsys.readouterr()
+    assert validate([out])[0]["numErrors"] == 0
+    body, motion = read_body(out), read_motion(out)
+    (garment,) = read_garments(out)
+    verts, _ = body_frames(body, motion)
+    surface = BodySurface(body.faces, len(body.vertices))
+    worst = max(float(penetration(surface, verts[f], garment.positions[f]).max())
+                for f in range(garment.frames))
+    assert worst <= 0.002
+
+
+def _refused(v, f, tmp_path, capsys, name):
+    path = tmp_path / f"{name}.ply"
+    sy.write_scan(path, v, f)
+    out = tmp_path / f"{name}.glb"
+    assert main(["body", "from-scan", str(path), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and "Traceback" not in err
+    assert not out.exists()
+    return err
+
+
+@pytest.fixture(scope="module")
+def plain_truth():
+    return sy.true_body(sy.case("hip"))
+
+
+def test_a_partial_scan_is_refused(plain_truth, tmp_path, capsys):
+    v, f = sy.scan_of(plain_truth, faces=40_000, seed=2)
+    # the scanner saw the front only: the back half is gone
+    keep = v[f].mean(axis=1)[:, 2] > 0.0
+    err = _refused(v, f[keep], tmp_path, capsys, "front-only")
+    assert "scan" in err
+
+
+def test_a_sitting_body_is_refused(plain_truth, tmp_path, capsys):
+    from catwalk.body.limbs import joint_matrices
+    from catwalk.body.rig import rigged_base_body
+    from catwalk.motion.quat import rot_x
+    from catwalk.motion.skinning import skin
+
+    base = rigged_base_body(0.0)
+    sk = base.skeleton
+    mats = joint_matrices(sk, {"thigh_l": rot_x(-np.pi / 2), "thigh_r": rot_x(-np.pi / 2),
+                               "calf_l": rot_x(np.pi / 2), "calf_r": rot_x(np.pi / 2)})
+    v = skin(base.vertices, base.skin_joints, base.skin_weights, mats).astype(np.float64)
+    v[:, 1] -= v[:, 1].min()
+    err = _refused(v, base.faces, tmp_path, capsys, "sitting")
+    assert "standing" in err or "body" in err
+
+
+def test_something_else_is_refused(tmp_path, capsys):
+    import trimesh
+
+    box = trimesh.creation.box(extents=(0.5, 1.7, 0.4))
+    v = np.asarray(box.vertices) + [0, 0.85, 0]
+    err = _refused(v, np.asarray(box.faces), tmp_path, capsys, "box")
+    assert "body" in err
