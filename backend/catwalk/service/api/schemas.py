@@ -42,9 +42,10 @@ class Measurements(BaseModel):
 class Body(BaseModel):
     id: str = Field(description="unguessable; the only way to reach the body")
     source: Literal["scan", "measurements"]
-    fit: Literal["measurements"] = Field(
-        description="how the walking body was made: a MakeHuman body fitted to the "
-                    "measurements (of the scan, for a scan)")
+    fit: Literal["measurements", "surface"] = Field(
+        description="how the walking body was made: 'measurements', a MakeHuman body fitted "
+                    "to the measurements sent; 'surface', the MakeHuman template registered to "
+                    "the scan's own surface (the shopper's shape walks)")
     sex: Literal["female", "male"]
     sex_inferred: bool = False
     measurements: dict[str, float] = Field(description="the person's, metres")
