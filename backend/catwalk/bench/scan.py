@@ -11,13 +11,16 @@ import tempfile
 import time
 from pathlib import Path
 
+import numpy as np
+
 from catwalk.bench.cloth import machine
 from catwalk.errors import InputError
 
 FACES = (50_000, 300_000, 2_000_000)
 
 
-def run_one(case_name: str, faces: int, folder: Path, seed: int = 0) -> dict:
+def run_one(case_name: str, faces: int, folder: Path, seed: int = 0, png: str | None = None
+            ) -> dict:
     from catwalk.body import synthetic as sy
     from catwalk.body.from_scan import body_from_scan
     from catwalk.exchange.scan import MAX_FACES, load_scan
@@ -34,6 +37,8 @@ def run_one(case_name: str, faces: int, folder: Path, seed: int = 0) -> dict:
     seconds = time.perf_counter() - t0
     dist = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces,
                                 body.vertices, body.faces)
+    if png:
+        figure(scan, body, sy.truth_in_scan_frame(truth, scan), truth.faces, png)
     girth_cm = {k: round(100 * (m["body"] - m["scan"]), 2)
                 for k, m in report["measurements"].items()
                 if k in ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")}
@@ -43,6 +48,34 @@ def run_one(case_name: str, faces: int, folder: Path, seed: int = 0) -> dict:
             "stages_s": report["seconds"]}
 
 
+def distance_colours(mm: np.ndarray, top: float = 4.0) -> np.ndarray:
+    """Blue (0 mm) through green and yellow to red (``top`` mm and more), per value."""
+    t = np.clip(np.asarray(mm) / top, 0.0, 1.0)[:, None]
+    stops = np.array([[0.20, 0.35, 0.85], [0.20, 0.75, 0.35], [0.95, 0.85, 0.20],
+                      [0.85, 0.15, 0.15]])
+    pos = t * (len(stops) - 1)
+    i = np.minimum(pos.astype(int), len(stops) - 2)
+    f = pos - i
+    return stops[i[:, 0]] * (1 - f) + stops[i[:, 0] + 1] * f
+
+
+def figure(scan, body, truth_v, truth_f, path, size=(300, 600)) -> None:
+    """The scan, the registered body, and the body coloured by its distance to the true
+    surface (blue 0 → red ≥ 4 mm), front and side, side by side."""
+    from catwalk.render.preview import render_meshes, save_png
+    from catwalk.simulate.metrics import BodySurface
+
+    mm = np.abs(BodySurface(truth_f, len(truth_v)).signed_distance(truth_v, body.vertices))
+    meshes = [(scan.vertices, scan.faces, (0.75, 0.78, 0.70)),
+              (body.vertices, body.faces, (0.80, 0.66, 0.56)),
+              (body.vertices, body.faces, distance_colours(mm * 1000.0))]
+    lo = np.minimum(scan.vertices.min(axis=0), body.vertices.min(axis=0))
+    hi = np.maximum(scan.vertices.max(axis=0), body.vertices.max(axis=0))
+    rows = [np.concatenate([render_meshes([m], view=view, size=size, bbox=(lo, hi))
+                            for m in meshes], axis=1) for view in ("front", "right")]
+    save_png(np.concatenate(rows, axis=0), path)
+
+
 def main(args) -> int:
     try:
         faces = [int(x) for x in args.faces.split(",") if x.strip()]
@@ -50,6 +83,12 @@ def main(args) -> int:
         raise InputError(f"--faces: comma-separated face counts, got {args.faces!r}") from None
     if not faces or any(not 1_000 <= n <= 2_000_000 for n in faces):
         raise InputError("--faces: each count within 1,000–2,000,000")
+    if args.png:
+        from catwalk.fileio import check_writable
+        from catwalk.render.preview import image_format
+
+        image_format(args.png, "--png")
+        check_writable(args.png, "--png")
     if args.cores < 1 or args.cores > (os.cpu_count() or 1):
         raise InputError(f"--cores: 1–{os.cpu_count()}")
     if hasattr(os, "sched_setaffinity"):
@@ -57,8 +96,8 @@ def main(args) -> int:
     rows = []
     with tempfile.TemporaryDirectory(prefix="catwalk-bench-scan-") as tmp:
         run_one(args.case, 20_000, Path(tmp))        # warm-up: imports, numba caches
-        for n in faces:
-            rows.append(run_one(args.case, n, Path(tmp)))
+        for i, n in enumerate(faces):
+            rows.append(run_one(args.case, n, Path(tmp), png=args.png if i == 0 else None))
     if args.json:
         print(json.dumps({"scans": rows}))
         return 0
@@ -78,5 +117,7 @@ def register(bench) -> None:
     p.add_argument("--case", default="belly", choices=("belly", "shoulders", "hip"),
                    help="the true body (catwalk.body.synthetic.CASES)")
     p.add_argument("--cores", type=int, default=1, help="CPU cores to run on (default 1)")
+    p.add_argument("--png", default=None, help="also draw the first scan, its registered body "
+                                               "and their distance as colour to this PNG")
     p.add_argument("--json", action="store_true", help="JSON: {\"scans\": [...]}")
     p.set_defaults(func=main)

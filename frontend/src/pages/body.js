@@ -118,6 +118,10 @@ export function render( root, route, ctx ) {
 		const origin = body.source === 'scan'
 			? `Made from your scan${ scan ? ` (${ scan.vertices.toLocaleString( 'en' ) } points, in ${ scan.units })` : '' }.`
 			: 'Made from your measurements.';
+		const distance = scan && scan.surface_distance_mm ? scan.surface_distance_mm.scan_to_body : null;
+		const shapeNote = body.fit === 'surface' && distance
+			? ` It takes your scan’s own shape: on average ${ distance.mean.toFixed( 1 ) } mm from its surface.`
+			: '';
 		const sexNote = body.sex_inferred ? ` We read the scan as a ${ body.sex } body shape.` : '';
 
 		const deleteArea = h( 'div', { class: 'danger-zone' } );
@@ -133,7 +137,7 @@ export function render( root, route, ctx ) {
 			h( 'div', { class: 'body-layout' },
 				h( 'div', { class: 'body-layout__view' }, view, h( 'p', { class: 'muted small' }, 'Drag to turn, pinch or scroll to zoom.' ) ),
 				h( 'div', { class: 'body-layout__facts' },
-					h( 'p', {}, origin + sexNote ),
+					h( 'p', {}, origin + shapeNote + sexNote ),
 					girthTable( body ),
 					h( 'section', { class: 'advice-all', 'aria-labelledby': 'advice-title', hidden: true },
 						h( 'h2', { id: 'advice-title' }, 'Your sizes' ),
