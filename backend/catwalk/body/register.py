@@ -32,6 +32,9 @@ SCHEDULE = ((200.0, 3, 0.05), (50.0, 3, 0.03), (15.0, 3, 0.02), (5.0, 3, 0.015),
             (2.0, 3, 0.01), (1.0, 2, 0.01), (0.5, 2, 0.008))
 NORMAL_AGREEMENT = 0.5      # cosine: correspondences whose normals differ more are dropped
 SCAN_SAMPLE = 25_000        # scan points pulling on the template per iteration
+BACK_REJECT = 0.03          # m: scan points pull on the template from this far in every stage
+ARM_STRIDE = 1              # every arm vertex measures an arm pose
+ARM_REACH = 0.25            # m: how far a posed arm may move out of its rest box
 
 
 @dataclass
@@ -72,34 +75,49 @@ class Target:
         return q, np.abs(d), n, self.rim[t]
 
 
-def _umeyama(src: np.ndarray, dst: np.ndarray, w: np.ndarray):
-    """Similarity (s, R, t) minimising Σ w |s R src + t − dst|² (Umeyama 1991)."""
-    w = w / w.sum()
-    ms, md = w @ src, w @ dst
-    a, b = src - ms, dst - md
-    cov = (b * w[:, None]).T @ a
-    u, sig, vt = np.linalg.svd(cov)
-    d = np.ones(3)
-    d[2] = np.sign(np.linalg.det(u @ vt))
-    rot = u @ np.diag(d) @ vt
-    var = float(w @ np.sum(a * a, axis=1))
-    s = float(np.sum(sig * d) / var)
-    return s, rot, md - s * rot @ ms
+def _skew(a: np.ndarray) -> np.ndarray:
+    """(N, 3, 3) cross-product matrices: _skew(a) @ b = a × b."""
+    z = np.zeros(len(a))
+    return np.stack([np.stack([z, -a[:, 2], a[:, 1]], 1), np.stack([a[:, 2], z, -a[:, 0]], 1),
+                     np.stack([-a[:, 1], a[:, 0], z], 1)], 1)
+
+
+def _similarity_step(x: np.ndarray, q: np.ndarray, n: np.ndarray, w: np.ndarray):
+    """One point-to-plane step: the small scale δ, rotation ω and move t minimising
+    Σ w (n · ((1 + δ)(x − c) + ω × (x − c) + c + t − q))² (c: the weighted centroid).
+    Returns (s, R, t) with x' = s R (x − c) + c + t, i.e. s R x + (c + t − s R c)."""
+    from catwalk.motion.quat import axis_angle
+
+    c = (w @ x) / w.sum()
+    r = x - c
+    a = np.concatenate([np.sum(n * r, 1)[:, None], np.cross(r, n), n], axis=1)   # (N, 7)
+    b = np.sum(n * (q - x), 1)
+    sw = np.sqrt(w)
+    sol = np.linalg.lstsq(a * sw[:, None], b * sw, rcond=None)[0]
+    delta, omega, t = sol[0], sol[1:4], sol[4:7]
+    angle = float(np.linalg.norm(omega))
+    rot = axis_angle(omega / angle, angle) if angle > 1e-12 else np.eye(3)
+    s = 1.0 + float(delta)
+    return s, rot, c + t - s * rot @ c
 
 
 def similarity(v: np.ndarray, use: np.ndarray, target: Target, iterations: int = 12):
-    """Scale, turn and move the template (its ``use`` vertices' closest points) onto the scan.
-    Returns (moved vertices, scale, rotation, translation) of the whole."""
-    s_all, r_all, t_all = 1.0, np.eye(3), np.zeros(3)
-    x = v.copy()
-    for it in range(iterations):
-        q, d, _, rim = target.closest(x[use])
+    """Scale, turn and move the template (its ``use`` vertices' closest points, point to
+    plane) onto the scan. Returns (moved vertices, scale, rotation, translation) of the
+    whole: moved = scale · v @ rotationᵀ + translation."""
+    # start centred as the scan's loader centres a scan: its box's middle on x = z = 0
+    t_all = np.zeros(3)
+    t_all[[0, 2]] = -0.5 * (v.min(axis=0) + v.max(axis=0))[[0, 2]]
+    s_all, r_all = 1.0, np.eye(3)
+    x = v + t_all
+    for _ in range(iterations):
+        q, d, qn, rim = target.closest(x[use])
         cut = max(0.01, float(np.percentile(d, 90)))
         w = ((d < cut) & ~rim).astype(np.float64)
-        s, rot, t = _umeyama(x[use], q, w)
+        s, rot, t = _similarity_step(x[use], q, qn, w)
         x = s * x @ rot.T + t
         s_all, r_all, t_all = s * s_all, rot @ r_all, s * rot @ t_all + t
-        if it > 2 and abs(s - 1.0) < 1e-5 and np.linalg.norm(t) < 1e-5:
+        if abs(s - 1.0) < 1e-5 and np.linalg.norm(t) < 1e-5:
             break
     return x, s_all, r_all, t_all
 
@@ -113,12 +131,16 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
 
     angles = {}
     for side, part in (("l", 1), ("r", 2)):
-        arm = np.flatnonzero(parts == part)
+        arm = np.flatnonzero(parts == part)[::ARM_STRIDE]
         va, ja, wa = v[arm], joints[arm], weights[arm]
+        # the scan's points within reach of the arm: a small tree, queried hundreds of times
+        near = np.all((target.vertices > va.min(axis=0) - ARM_REACH)
+                      & (target.vertices < va.max(axis=0) + ARM_REACH), axis=1)
+        tree = cKDTree(target.vertices[near])
 
-        def cost(a, side=side, va=va, ja=ja, wa=wa):
+        def cost(a, side=side, va=va, ja=ja, wa=wa, tree=tree):
             x = pose_arms(va, skeleton, ja, wa, {side: a})
-            d, _ = target.tree.query(x)
+            d, _ = tree.query(x, distance_upper_bound=0.05)
             return float(np.mean(np.minimum(d, 0.05)))
 
         if start is None:
@@ -198,7 +220,8 @@ def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDUL
             tv = faces[tri]
             tn = nrm[tv].sum(axis=1)
             tn /= np.linalg.norm(tn, axis=1, keepdims=True) + 1e-30
-            wb = ((np.abs(dc) < reject) & (np.sum(tn * pts_n, 1) > NORMAL_AGREEMENT)) * back_w
+            wb = ((np.abs(dc) < max(reject, BACK_REJECT))
+                  & (np.sum(tn * pts_n, 1) > NORMAL_AGREEMENT)) * back_w
             bary = _barycentric(c, x[tv[:, 0]], x[tv[:, 1]], x[tv[:, 2]])
             rows = np.repeat(np.arange(len(pts)), 3)
             b = sp.csr_matrix((bary.ravel(), (rows, tv.ravel())), shape=(len(pts), n))
