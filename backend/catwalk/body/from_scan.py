@@ -122,6 +122,16 @@ def _fit_template(m: dict, sex: str):
                          f"({exc})", "scan") from None
 
 
+HAND_BONES = ("hand", "thumb", "index", "middle", "ring", "pinky")
+
+
+def _hand_vertices(skeleton, joints, weights) -> np.ndarray:
+    """Body vertices whose strongest joint is a hand's or a finger's."""
+    hand = np.array([n.split("_")[0] in HAND_BONES for n in skeleton.names])
+    main = joints[np.arange(len(joints)), np.argmax(weights, axis=1)]
+    return np.flatnonzero(hand[main])
+
+
 def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
     """The full template registered to the target: (full vertices, arm angles in degrees)."""
     from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
@@ -142,17 +152,20 @@ def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
     skeleton = build_skeleton(full)
     v, first = reg.fit_arms(full[:n], skeleton, joints, weights, parts, target)
     stiff, supple = reg.SCHEDULE[:3], reg.SCHEDULE[3:]
-    v = reg.nonrigid(v, faces, target, stiff)
+    hands = _hand_vertices(skeleton, joints, weights)
+    v = reg.nonrigid(v, faces, target, stiff, focus=hands)
     # the arms again, from the template's arms posed back to rest: they have the scan's
     # thickness now, so their angles are measured without that bias
     rest = pose_arms(v, skeleton, joints, weights, first, undo=True)
     v, arms = reg.fit_arms(rest, skeleton, joints, weights, parts, target, start=first)
-    v = reg.nonrigid(v, faces, target, supple)
+    v = reg.nonrigid(v, faces, target, supple, focus=hands)
+    v = reg.unfold(v, full[:n], faces)
+    folded = len(reg.folds(v, full[:n], faces))
     clock.lap("register")
     arms = {side: dict(zip(ARM_PARAMETERS, np.round(np.degrees(a), 2).tolist(), strict=True))
             for side, a in arms.items()}
     return carry_helpers(full, v), {"scale": round(s, 5), "coverage": round(coverage, 4),
-                                    "arms_deg": arms}
+                                    "folded_triangle_pairs": folded, "arms_deg": arms}
 
 
 def body_from_scan(scan, sex: str | None = None, progress=None) -> tuple[Body, dict]:
