@@ -8,7 +8,7 @@ scan's surface (``catwalk body from-scan``, ``POST /api/bodies`` with a scan).
 3. **Register** (:mod:`catwalk.body.register`): a similarity (scale, turn, move) of the torso
    and legs onto the scan; the arms turned at the shoulders to the scan's arms; the stiff half of
    the non-rigid ICP; the arms again (the template's arms now have the scan's thickness, so
-   their angle is measured without that bias); the supple half.
+   their angle is measured without that bias); the supple half; noise folds undone.
 4. **Rig**: the helper geometry (joint cubes) follows the registered surface — each helper
    vertex moves by the mean displacement of its nearest body vertices — and the joints, rest
    frames, skin weights and parts come from it as for a made body; the landmarks and
