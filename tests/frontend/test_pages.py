@@ -172,3 +172,32 @@ def test_pages_at_a_phone_size(site, page_factory):
     page.goto(site + "/no/such/page")
     assert page.get_by_role("heading", name="This page isn’t here").is_visible()
     assert console.errors == []
+
+
+def test_a_scan_becomes_the_shoppers_body(site, page_factory, tmp_path):
+    """A shopper drops a scan (millimetres, Z up, noisy, with holes): the page says it is
+    being fitted, then shows the body with how close it lies to the scan, and draws it."""
+    from catwalk.body import synthetic as sy
+
+    truth = sy.true_body(sy.case("hip"))
+    v, f = sy.scan_of(truth, faces=40_000, seed=3)
+    scan = tmp_path / "my-scan.ply"
+    sy.write_scan(scan, v, f)
+
+    page, console = page_factory()
+    page.goto(site + "/body")
+    page.locator("input[type=file]").set_input_files(str(scan))
+    page.wait_for_selector(".girths", timeout=120_000)
+    text = page.locator(".body-layout__facts").inner_text()
+    assert "Made from your scan" in text and "mm from its surface" in text, text
+    assert "We read the scan as a female body shape" in text
+    body_id = page.evaluate("localStorage.getItem('catwalk.body')")
+    got = httpx.get(f"{site}/api/bodies/{body_id}").json()
+    assert got["fit"] == "surface" and got["source"] == "scan"
+    assert got["scan"]["surface_distance_mm"]["scan_to_body"]["mean"] < 1.5
+    page.wait_for_function("() => window.__catwalk && window.__catwalk.bodyView",
+                           timeout=60_000)
+    shot = tmp_path / "scan-body.png"
+    page.screenshot(path=str(shot))
+    assert shot.stat().st_size > 10_000
+    assert console.errors == []

@@ -492,7 +492,7 @@ function scanForm( onBody, ctx ) {
 			onSent: () => {
 
 				bar.indeterminate( true );
-				label.textContent = 'Measuring your scan and making your body…';
+				label.textContent = 'Fitting your body to your scan’s surface (about 10 s)…';
 				cancel.remove();
 
 			},
