@@ -203,3 +203,28 @@ def test_something_else_is_refused(tmp_path, capsys):
     v = np.asarray(box.vertices) + [0, 0.85, 0]
     err = _refused(v, np.asarray(box.faces), tmp_path, capsys, "box")
     assert "body" in err
+
+
+@pytest.mark.parametrize("arms_deg, turn_deg", [((-20.0, 0.0), 0.0), ((22.0, 0.0), 0.0),
+                                                 ((5.0, 20.0), 0.0), ((10.0, 5.0), 10.0)])
+def test_near_an_a_pose_and_turned_on_the_scanner(tmp_path, arms_deg, turn_deg):
+    """Arms raised 20°, lowered 22° (almost at the sides) or swung 20° forwards from the
+    template's A-pose, or the whole body turned 10° on the scanner's turntable."""
+    import dataclasses
+
+    from catwalk.motion.quat import rot_y
+
+    truth = sy.true_body(dataclasses.replace(sy.case("hip"), arms_deg=arms_deg))
+    truth.vertices = truth.vertices @ rot_y(np.radians(turn_deg)).T
+    v, f = sy.scan_of(truth, faces=60_000, seed=4)
+    path = tmp_path / "scan.ply"
+    sy.write_scan(path, v, f)
+    scan = load_scan(path)
+    body, report = body_from_scan(scan)
+    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces, body.vertices,
+                             body.faces)
+    assert d["mean_mm"] <= 1.5 and d["p99_mm"] <= 4.0, d
+    if not turn_deg:
+        for side in ("l", "r"):
+            got = report["registration"]["arms_deg"][side]
+            assert abs(got["abduction"] - arms_deg[0]) < 3.0, got
