@@ -104,7 +104,7 @@ def test_the_scan_body_walks_cleanly(registered):
     assert np.sum(q[1:] * q[:-1], axis=-1).min() > 0.9          # no joint flips
     assert np.isfinite(verts).all()
     # MakeHuman's linear blend skinning folds 80–90 triangle pairs in a walk on any body
-    # (behind the swinging knee, mostly); the scan's body folds about as many as the template
+    # (under the toes at push-off, mostly); the scan's body folds about as many as the template
     base = measured_base_body(0.0 if truth.case.sex == "female" else 1.0)
     assert _folded(body, m, verts) <= 1.25 * _folded(base, *_walk(base))
 
