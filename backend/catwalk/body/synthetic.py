@@ -141,7 +141,8 @@ def scan_of(truth: TrueBody, faces: int = 300_000, noise_m: float = NOISE_M,
     slide -= np.sum(slide * nrm, axis=1, keepdims=True) * nrm
     slide *= step / (np.linalg.norm(slide, axis=1, keepdims=True) + 1e-30)
     surface = BodySurface(truth.faces, len(truth.vertices), k=12)
-    on, _, tri = surface.closest(truth.vertices, v + slide, tree=cKDTree(truth.vertices))
+    on, _, tri, _ = surface.closest(truth.vertices, v + slide,
+                                    tree=cKDTree(truth.vertices))
     tn = vertex_normals(truth.vertices, truth.faces)[truth.faces[tri]].mean(axis=1)
     tn /= np.linalg.norm(tn, axis=1, keepdims=True)
     v = on + rng.normal(scale=noise_m, size=(len(v), 1)) * tn if noise_m else on

@@ -483,24 +483,23 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
     v, f = _merge_vertices(v, f, tol=1e-6)
     if len(f) == 0:
         raise InputError(f"{path}: degenerate geometry: every face collapses")
+    used = _used(f, len(v))
+    if used.size != len(v):  # drop unreferenced vertices: stray points are no surface
+        remap = np.full(len(v), -1, np.int64)
+        remap[used] = np.arange(used.size)
+        v, f = v[used], remap[f]
     holes, components, nonmanifold = _topology_report(f, len(v))
     up_axis, up_sign = _detect_up(v, f)
     fwd_axis, fwd_sign, detected = _detect_forward(v, f, up_axis, up_sign)
     R = _rotation(up_axis, up_sign, fwd_axis, fwd_sign)
     out = v @ R.T
-    used = _used(f, len(out))
-    lo = out[used].min(axis=0)
-    hi = out[used].max(axis=0)
+    lo = out.min(axis=0)
+    hi = out.max(axis=0)
     t = np.array([-(lo[0] + hi[0]) / 2, -lo[1], -(lo[2] + hi[2]) / 2])
     out = out + t
     T = np.eye(4)
     T[:3, :3] = R * scale
     T[:3, 3] = t
-    if used.size != len(out):  # drop unreferenced vertices
-        remap = np.full(len(out), -1, np.int64)
-        remap[used] = np.arange(used.size)
-        out = out[used]
-        f = remap[f]
     return Scan(
         path=str(path), vertices=out, faces=f.astype(np.int32), units=units, scale=scale,
         up=("+" if up_sign > 0 else "-") + AXES[up_axis],

@@ -12,11 +12,12 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from catwalk.collide.bvh import closest_on_triangle
+from catwalk.errors import InputError
 from catwalk.render.raster import incident_faces, vertex_normals
 
 
 @numba.njit(cache=True)
-def _closest(points, near, verts, normals, faces, ptr, inc, out_d, out_q, out_t):
+def _closest(points, near, verts, normals, faces, ptr, inc, out_d, out_q, out_t, out_b):
     for i in range(points.shape[0]):
         px, py, pz = points[i, 0], points[i, 1], points[i, 2]
         best = 1e30
@@ -46,6 +47,9 @@ def _closest(points, near, verts, normals, faces, ptr, inc, out_d, out_q, out_t)
                     out_q[i, 1] = qy
                     out_q[i, 2] = qz
                     out_t[i] = f
+                    out_b[i, 0] = s
+                    out_b[i, 1] = u
+                    out_b[i, 2] = w
 
 
 class BodySurface:
@@ -58,21 +62,27 @@ class BodySurface:
 
     def closest(self, vertices: np.ndarray, points: np.ndarray, tree: cKDTree | None = None,
                 normals: np.ndarray | None = None):
-        """(closest surface points (P, 3), signed distances (P,), their triangles (P,)).
+        """(closest surface points (P, 3), signed distances (P,), their triangles (P,), the
+        points' barycentric coordinates on them (P, 3)).
 
         ``tree`` and ``normals``: a cKDTree of ``vertices`` and their vertex normals, already
-        made (several queries on one surface)."""
+        made (several queries on one surface). A point whose nearest vertices are on no
+        triangle (a mesh with unused vertices) is an :class:`InputError`."""
         v = np.ascontiguousarray(vertices, dtype=np.float64)
         p = np.ascontiguousarray(points, dtype=np.float64)
         nrm = vertex_normals(v, self.faces) if normals is None else normals
         k = min(self.k, len(v))
         _, near = (tree or cKDTree(v)).query(p, k=k)
         near = np.ascontiguousarray(np.reshape(near, (len(p), k)), dtype=np.int64)
-        d = np.empty(len(p))
-        q = np.empty((len(p), 3))
-        t = np.empty(len(p), dtype=np.int64)
-        _closest(p, near, v, nrm, self.faces, self.ptr, self.inc, d, q, t)
-        return q, d, t
+        d = np.full(len(p), np.inf)
+        q = np.zeros((len(p), 3))
+        t = np.full(len(p), -1, dtype=np.int64)
+        b = np.zeros((len(p), 3))
+        _closest(p, near, v, nrm, self.faces, self.ptr, self.inc, d, q, t, b)
+        if len(t) and t.min() < 0:
+            raise InputError("surface: points whose nearest vertices are on no triangle (the "
+                             "mesh has unused vertices)")
+        return q, d, t, b
 
     def signed_distance(self, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
         return self.closest(vertices, points)[1]

@@ -108,36 +108,46 @@ def static_frames(dressed: Dressed, name: str | None = None) -> GarmentFrames:
 SCAN_SUFFIXES = (".obj", ".ply", ".stl")
 
 
-def load_body(body, progress=None) -> Body:
+def load_body(body, cancel=None) -> Body:
     """A body ready to dress and walk: a :class:`Body`, a .glb from ``catwalk body make`` or
     ``catwalk body from-scan`` as a path, bytes or a file object, or a scan's file (OBJ, PLY,
     STL, or a GLB with no skin), registered to the template as ``catwalk body from-scan``
-    does."""
+    does (``cancel()`` asked between its stages)."""
     if not isinstance(body, Body):
         from catwalk.exchange.gltf import read_body
 
         if isinstance(body, (str, Path)) and not Path(body).is_file():
             raise InputError(f"body {body}: no such file", "body")
-        if isinstance(body, (str, Path)) and Path(body).suffix.lower() in SCAN_SUFFIXES:
-            return body_of_scan(body, progress)
-        read = read_body(body)
-        if read.skeleton is None and isinstance(body, (str, Path)):
-            return body_of_scan(body, progress)
-        body = read
+        if isinstance(body, (str, Path)) and (Path(body).suffix.lower() in SCAN_SUFFIXES
+                                              or not _has_skin(body)):
+            return body_of_scan(body, cancel)
+        body = read_body(body)
     if body.parts is None or not body.landmarks:
         raise InputError("body: the body has no parts or landmarks; make it with "
                          "`catwalk body make` (or POST /api/bodies)", "body")
     return body
 
 
-def body_of_scan(path, progress=None) -> Body:
+def _has_skin(path) -> bool:
+    """Whether the .glb at ``path`` has a skin (a body) rather than none (a scan); a file that
+    is no readable GLB is left to the body reader's message."""
+    from catwalk.exchange.gltf import load_glb
+
+    try:
+        doc, _ = load_glb(path)
+    except (InputError, ValueError, OSError):
+        return True
+    return bool(doc.skins)
+
+
+def body_of_scan(path, cancel=None) -> Body:
     """The template registered to the scan at ``path`` (see :mod:`catwalk.body.from_scan`)."""
     from catwalk.body.from_scan import body_from_scan
     from catwalk.exchange.scan import load_scan
 
     scan = load_scan(path)
     try:
-        return body_from_scan(scan, progress=progress)[0]
+        return body_from_scan(scan, cancel=cancel)[0]
     except InputError as exc:
         raise InputError(f"body {scan.path}: {exc}", "body") from None
 
@@ -199,7 +209,8 @@ def tryon(body, garment, *, size: str | None = None, fabric=None, seconds: float
           cancel: Callable[[], bool] | None = None, measure: bool = True) -> TryOn:
     """Dress ``body`` in ``garment`` and walk it ``seconds`` (0: dressed, standing).
 
-    ``body``: a :class:`Body` or a body .glb (path, bytes, file object); ``garment``: a
+    ``body``: a :class:`Body`, a body .glb (path, bytes, file object) or a scan's file
+    (registered first, :mod:`catwalk.body.from_scan`); ``garment``: a
     :class:`Garment`, a dict or a garment JSON (path, bytes, file object; textures relative to
     its folder or ``garment_dir``; ``garment_id`` names it in the file, by default its file's
     stem, else its type); ``size``: one of the garment's (default: its default);
@@ -222,7 +233,7 @@ def tryon(body, garment, *, size: str | None = None, fabric=None, seconds: float
     garment = load_checked_garment(garment, garment_dir)
     used_size = check_options(garment, size=size, fabric=fabric, seconds=seconds, fps=fps,
                               settings=settings)
-    body = load_body(body)
+    body = load_body(body, cancel)
     walking = seconds > 0
     if walking and (body.skeleton is None or body.skin_joints is None):
         raise InputError("body: the body has no rig; make it with `catwalk body make`", "body")
