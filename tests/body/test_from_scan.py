@@ -237,15 +237,24 @@ def _shifted_truth(truth, scan, report):
     return t + np.asarray(report["registration"].get("moved_m", [0.0, 0.0, 0.0]))
 
 
-@pytest.mark.parametrize("flaw", ["inside-out", "sprinkled-holes", "floating-specks"])
+@pytest.mark.parametrize("flaw", ["inside-out", "sprinkled-holes", "floating-specks",
+                                  "on-a-floor"])
 def test_flawed_scans_register(plain_truth, tmp_path, flaw):
     """A scan whose triangles wind inwards, one with 2 % of its triangles missing at random,
-    and one with specks floating beside it register as well as the clean scan."""
+    one with specks floating beside it and one standing on a 1.2 m square slab of floor
+    register as well as the clean scan."""
+    import trimesh
+
     v, f = sy.scan_of(plain_truth, faces=40_000, seed=5)
     if flaw == "inside-out":
         f = f[:, ::-1]
     elif flaw == "sprinkled-holes":
         f = f[np.random.default_rng(0).random(len(f)) > 0.02]
+    elif flaw == "on-a-floor":
+        slab = trimesh.creation.box(extents=(1.2, 0.002, 1.2))
+        sv, sf = trimesh.remesh.subdivide_to_size(np.asarray(slab.vertices) + [0, -0.001, 0.05],
+                                                  np.asarray(slab.faces), 0.05)
+        v, f = np.vstack([v, sv]), np.vstack([f, sf + len(v)])
     else:
         speck = np.array([[0.5, 1.0, 0.5], [0.51, 1.0, 0.5], [0.5, 1.01, 0.5]])
         v = np.vstack([v] + [speck + [0.1 * i, 0.0, 0.0] for i in range(5)])
@@ -261,6 +270,8 @@ def test_flawed_scans_register(plain_truth, tmp_path, flaw):
     if flaw == "floating-specks":
         assert report["registration"]["island_faces_dropped"] >= 5
         assert "moved_m" in report["registration"]
+    if flaw == "on-a-floor":
+        assert report["registration"]["floor_faces_dropped"] > 1000
 
 
 def test_a_glb_scan_with_no_skin_is_a_scan_to_the_tryon(tmp_path):

@@ -34,6 +34,9 @@ from catwalk.body import register as reg
 from catwalk.body.types import Body
 from catwalk.errors import Cancelled, InputError
 
+FLOOR_HEIGHT = 0.015        # m: a floor's faces lie this low, level (|cos| of tilt ≥ 0.95)
+FLOOR_LEVEL = 0.95
+FLOOR_AREA_MIN = 0.08       # m²: level low faces of more area are a floor (two soles ≈ 0.04)
 ISLAND_SHARE = 0.005        # separate pieces with fewer faces than this share are dropped
 SIDE_SHARE_MIN = 0.05       # of the torso's surface facing each 30° sector (else: partial)
 COVERAGE_MIN = 0.80         # of the aligned template's trunk within 2 cm of the scan's surface
@@ -175,9 +178,27 @@ def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
                                     "folded_triangle_pairs": folded, "arms_deg": arms}
 
 
+def without_floor(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, int]:
+    """The scan's faces without the floor it stood on, if it has one: flat, level faces in the
+    lowest 1.5 cm whose area is more than two soles could have (``FLOOR_AREA_MIN``); and how
+    many were dropped. The feet's own soles are level and low too, so a scan without a floor
+    keeps them."""
+    f = np.asarray(faces)
+    tri = vertices[f]
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    area = 0.5 * np.linalg.norm(n, axis=1)
+    level = np.abs(n[:, 1]) > FLOOR_LEVEL * 2.0 * np.maximum(area, 1e-30)
+    low = tri[:, :, 1].max(axis=1) < vertices[np.unique(f), 1].min() + FLOOR_HEIGHT
+    floor = level & low
+    if area[floor].sum() < FLOOR_AREA_MIN:
+        return f, 0
+    return f[~floor], int(floor.sum())
+
+
 def without_islands(vertices: np.ndarray, faces: np.ndarray, share: float = ISLAND_SHARE):
     """The scan without its small separate pieces (specks of noise, a stray hair, bits of the
-    scanner): connected pieces with fewer than ``share`` of the faces are dropped."""
+    scanner) and the flat ones at its bottom (a floor's edges): connected pieces with fewer
+    than ``share`` of the faces, or lying within the floor layer, are dropped."""
     from scipy.sparse.csgraph import connected_components
 
     f = np.asarray(faces, dtype=np.int64)
@@ -188,7 +209,12 @@ def without_islands(vertices: np.ndarray, faces: np.ndarray, share: float = ISLA
     if count == 1:
         return vertices, faces
     size = np.bincount(label[f[:, 0]], minlength=count)
-    f = f[size[label[f[:, 0]]] >= share * len(f)]
+    # a piece no higher than the floor layer is what is left of a floor (its edges)
+    top = np.full(count, -np.inf)
+    np.maximum.at(top, label[f[:, 0]], vertices[f[:, 0], 1])
+    floor_top = float(vertices[np.unique(f), 1].min()) + FLOOR_HEIGHT
+    keep = (size >= share * len(f)) & (top > floor_top)
+    f = f[keep[label[f[:, 0]]]]
     used = np.unique(f)
     remap = np.full(n, -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
@@ -246,7 +272,8 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
     from catwalk.body.rig import build_rig
 
     clock = _Clock(progress, cancel, t0)
-    vertices, scan_faces = without_islands(scan.vertices, scan.faces)
+    scan_faces, floor = without_floor(scan.vertices, scan.faces)
+    vertices, scan_faces = without_islands(scan.vertices, scan_faces)
     vertices, shift = _recentred(vertices, scan_faces)
     target = reg.Target.of(vertices, scan_faces)
     try:
@@ -282,7 +309,9 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
     report = {"sex": sex, **distances, "measurements": girths, "registration": how,
               "fit": fit, "seconds": {**clock.seconds,
                                       "total": round(time.perf_counter() - clock.t0, 3)}}
-    dropped = len(scan.faces) - len(scan_faces)
+    if floor:
+        report["registration"]["floor_faces_dropped"] = floor
+    dropped = len(scan.faces) - floor - len(scan_faces)
     if dropped:
         report["registration"]["island_faces_dropped"] = int(dropped)
     if np.any(shift):
