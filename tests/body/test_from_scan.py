@@ -11,11 +11,11 @@ import pytest
 
 from catwalk.body import synthetic as sy
 from catwalk.body.from_scan import body_from_scan
+from catwalk.body.types import GIRTHS
 from catwalk.cli import main
 from catwalk.exchange.scan import load_scan
 
 FACES = 80_000
-GIRTHS = ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")
 
 
 REPO = Path(__file__).resolve().parents[2]
@@ -47,8 +47,8 @@ def test_the_registered_surface_is_the_true_one(registered):
     truth, scan, body, report, _ = registered
     assert (scan.units, scan.up, scan.forward) == ("mm", "+Z", "-Y")
     assert scan.holes > 0 and not scan.watertight
-    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces, body.vertices,
-                             body.faces)
+    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan, report), truth.faces,
+                             body.vertices, body.faces)
     assert d["mean_mm"] <= 1.5 and d["p99_mm"] <= 4.0, d
     # the report's own distances (against the noisy scan, holes left out) say as much
     assert report["scan_to_body_mm"]["mean"] < 1.5 and report["body_to_scan_mm"]["mean"] < 1.5
@@ -83,19 +83,9 @@ def _walk(body):
     return m, body_frames(body, m)[0]
 
 
-def _folded(body, m, verts) -> int:
-    """The most triangle pairs folded over (normals more than 90° apart) in any frame of the
-    walk that were smooth (under 60°) at rest."""
-    from catwalk.body.register import _face_pairs, folds
-
-    pairs = _face_pairs(body.faces, len(body.vertices))
-    return max(len(folds(verts[i].astype(np.float64), body.vertices, body.faces, pairs))
-               for i in range(0, m.frames, 2))
-
-
 def test_the_scan_body_walks_cleanly(registered):
     from catwalk.body.rig import measured_base_body
-    from catwalk.motion.gait import foot_sliding
+    from catwalk.motion.gait import foot_sliding, walk_folds
 
     truth, _, body, _, _ = registered
     m, verts = _walk(body)
@@ -106,7 +96,7 @@ def test_the_scan_body_walks_cleanly(registered):
     # MakeHuman's linear blend skinning folds 80–90 triangle pairs in a walk on any body
     # (under the toes at push-off, mostly); the scan's body folds about as many as the template
     base = measured_base_body(0.0 if truth.case.sex == "female" else 1.0)
-    assert _folded(body, m, verts) <= 1.25 * _folded(base, *_walk(base))
+    assert walk_folds(body, verts) <= 1.25 * walk_folds(base, _walk(base)[1])
 
 
 def test_the_registered_surface_is_not_folded(registered):
@@ -223,18 +213,13 @@ def test_near_an_a_pose_and_turned_on_the_scanner(tmp_path, arms_deg, turn_deg):
     sy.write_scan(path, v, f)
     scan = load_scan(path)
     body, report = body_from_scan(scan)
-    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces, body.vertices,
-                             body.faces)
+    d = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan, report), truth.faces,
+                             body.vertices, body.faces)
     assert d["mean_mm"] <= 1.5 and d["p99_mm"] <= 4.0, d
     if not turn_deg:
         for side in ("l", "r"):
             got = report["registration"]["arms_deg"][side]
             assert abs(got["abduction"] - arms_deg[0]) < 3.0, got
-
-
-def _shifted_truth(truth, scan, report):
-    t = sy.truth_in_scan_frame(truth, scan)
-    return t + np.asarray(report["registration"].get("moved_m", [0.0, 0.0, 0.0]))
 
 
 @pytest.mark.parametrize("flaw", ["inside-out", "sprinkled-holes", "floating-specks",
@@ -263,8 +248,8 @@ def test_flawed_scans_register(plain_truth, tmp_path, flaw):
     sy.write_scan(path, v, f)
     scan = load_scan(path)
     body, report = body_from_scan(scan)
-    d = sy.distance_to_truth(_shifted_truth(plain_truth, scan, report), plain_truth.faces,
-                             body.vertices, body.faces)
+    d = sy.distance_to_truth(sy.truth_in_scan_frame(plain_truth, scan, report),
+                             plain_truth.faces, body.vertices, body.faces)
     assert d["mean_mm"] <= 1.5 and d["p99_mm"] <= 4.0, d
     assert report["registration"]["turned_out"] == (flaw == "inside-out")
     if flaw == "floating-specks":

@@ -9,6 +9,7 @@ import json
 import os
 import tempfile
 import time
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +25,7 @@ def run_one(case_name: str, faces: int, folder: Path, seed: int = 0, png: str | 
     from catwalk.body import synthetic as sy
     from catwalk.body.from_scan import body_from_scan
     from catwalk.body.measure import measure_body
+    from catwalk.body.types import GIRTHS
     from catwalk.exchange.scan import MAX_FACES, load_scan
 
     truth = sy.true_body(sy.case(case_name))
@@ -36,21 +38,40 @@ def run_one(case_name: str, faces: int, folder: Path, seed: int = 0, png: str | 
     scan = load_scan(path)
     body, report = body_from_scan(scan)
     seconds = time.perf_counter() - t0
-    dist = sy.distance_to_truth(sy.truth_in_scan_frame(truth, scan), truth.faces,
-                                body.vertices, body.faces)
+    truth_v = sy.truth_in_scan_frame(truth, scan, report)
+    dist = sy.distance_to_truth(truth_v, truth.faces, body.vertices, body.faces)
     if png:
-        figure(scan, body, sy.truth_in_scan_frame(truth, scan), truth.faces, png)
-    girths = ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")
+        figure(scan, body, truth_v, truth.faces, png)
     girth_cm = {k: round(100 * (m["body"] - m["scan"]), 2)
-                for k, m in report["measurements"].items() if k in girths}
-    true_m = measure_body(sy.truth_in_scan_frame(truth, scan), truth.faces, sex=report["sex"])
+                for k, m in report["measurements"].items() if k in GIRTHS}
+    true_m = measure_body(truth_v, truth.faces, sex=report["sex"])
     truth_cm = {k: round(100 * (m["body"] - true_m[k]), 2)
-                for k, m in report["measurements"].items() if k in girths and k in true_m}
+                for k, m in report["measurements"].items() if k in GIRTHS and k in true_m}
     return {"case": case_name, "faces": int(len(scan.faces)), "seconds": round(seconds, 2),
             **dist, "scan_to_body_mm": report["scan_to_body_mm"],
             "body_to_scan_mm": report["body_to_scan_mm"], "girth_error_cm": girth_cm,
             "girth_error_vs_truth_cm": truth_cm,
+            "rest_folds": report["registration"]["folded_triangle_pairs"],
+            "walk_folds": walk_folds_of(body),
+            "template_walk_folds": template_walk_folds(report["sex"]),
             "stages_s": report["seconds"]}
+
+
+def walk_folds_of(body) -> int:
+    """Triangle pairs the body's 2 s walk folds over at worst (:func:`walk_folds`)."""
+    from catwalk.motion.gait import walk_folds, walk_motion
+    from catwalk.motion.skinning import body_frames
+
+    motion = walk_motion(body, 2.0, speed=1.2, fps=30)
+    return walk_folds(body, body_frames(body, motion)[0])
+
+
+@lru_cache(maxsize=2)
+def template_walk_folds(sex: str) -> int:
+    """The same for the MakeHuman template of that sex (its skinning's own creases)."""
+    from catwalk.body.rig import measured_base_body
+
+    return walk_folds_of(measured_base_body(0.0 if sex == "female" else 1.0))
 
 
 def distance_colours(mm: np.ndarray, top: float = 4.0) -> np.ndarray:
@@ -107,11 +128,15 @@ def main(args) -> int:
         print(json.dumps({"scans": rows}))
         return 0
     print(f"Scan registration, case {args.case!r} ({args.cores} core(s)); machine: {machine()}")
-    print(f"{'faces':>9} {'seconds':>8} {'mean mm':>8} {'p99 mm':>7} {'max mm':>7}  "
-          f"girths (cm): body − scan | body − truth")
+    print(f"{'faces':>9} {'seconds':>8} {'mean mm':>8} {'p99 mm':>7} {'max mm':>7} "
+          f"{'folds':>11}  girths (cm): body − scan | body − truth")
     for r in rows:
+        folds = f"{r['walk_folds']}/{r['template_walk_folds']}"
         print(f"{r['faces']:>9,} {r['seconds']:>8.2f} {r['mean_mm']:>8.2f} {r['p99_mm']:>7.2f} "
-              f"{r['max_mm']:>7.2f}  {r['girth_error_cm']} | {r['girth_error_vs_truth_cm']}")
+              f"{r['max_mm']:>7.2f} {folds:>11}  {r['girth_error_cm']} | "
+              f"{r['girth_error_vs_truth_cm']}")
+    print("folds: triangle pairs folded over at worst in a 2 s walk, the scan's body / the "
+          "template's")
     return 0
 
 

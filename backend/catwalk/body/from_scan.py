@@ -26,13 +26,13 @@ from __future__ import annotations
 import time
 
 import numpy as np
-import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from catwalk.body import makehuman as mh
 from catwalk.body import register as reg
-from catwalk.body.types import Body
+from catwalk.body.types import MEASUREMENTS, Body
 from catwalk.errors import Cancelled, InputError
+from catwalk.mesh import compact, components, face_cross
 
 FLOOR_HEIGHT = 0.015        # m: a floor's faces lie this low, level (|cos| of tilt ≥ 0.95)
 FLOOR_LEVEL = 0.95
@@ -184,11 +184,10 @@ def without_floor(vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, 
     many were dropped. The feet's own soles are level and low too, so a scan without a floor
     keeps them."""
     f = np.asarray(faces)
-    tri = vertices[f]
-    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n = face_cross(vertices, f)
     area = 0.5 * np.linalg.norm(n, axis=1)
     level = np.abs(n[:, 1]) > FLOOR_LEVEL * 2.0 * np.maximum(area, 1e-30)
-    low = tri[:, :, 1].max(axis=1) < vertices[np.unique(f), 1].min() + FLOOR_HEIGHT
+    low = vertices[f, 1].max(axis=1) < vertices[f.ravel(), 1].min() + FLOOR_HEIGHT
     floor = level & low
     if area[floor].sum() < FLOOR_AREA_MIN:
         return f, 0
@@ -199,26 +198,18 @@ def without_islands(vertices: np.ndarray, faces: np.ndarray, share: float = ISLA
     """The scan without its small separate pieces (specks of noise, a stray hair, bits of the
     scanner) and the flat ones at its bottom (a floor's edges): connected pieces with fewer
     than ``share`` of the faces, or lying within the floor layer, are dropped."""
-    from scipy.sparse.csgraph import connected_components
-
     f = np.asarray(faces, dtype=np.int64)
-    n = len(vertices)
-    graph = sp.csr_matrix((np.ones(2 * len(f)), (np.r_[f[:, 0], f[:, 1]],
-                                                  np.r_[f[:, 1], f[:, 2]])), shape=(n, n))
-    count, label = connected_components(graph, directed=False)
+    count, label = components(f, len(vertices))
     if count == 1:
-        return vertices, faces
-    size = np.bincount(label[f[:, 0]], minlength=count)
+        return compact(vertices, f)
+    piece = label[f[:, 0]]
+    size = np.bincount(piece, minlength=count)
     # a piece no higher than the floor layer is what is left of a floor (its edges)
     top = np.full(count, -np.inf)
-    np.maximum.at(top, label[f[:, 0]], vertices[f[:, 0], 1])
-    floor_top = float(vertices[np.unique(f), 1].min()) + FLOOR_HEIGHT
+    np.maximum.at(top, piece, vertices[f[:, 0], 1])
+    floor_top = float(vertices[f.ravel(), 1].min()) + FLOOR_HEIGHT
     keep = (size >= share * len(f)) & (top > floor_top)
-    f = f[keep[label[f[:, 0]]]]
-    used = np.unique(f)
-    remap = np.full(n, -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    return np.asarray(vertices)[used], remap[f]
+    return compact(vertices, f[keep[piece]])
 
 
 # the 12 sectors of 30° by their middle direction: −165°, −135°, …, +165° from the front
@@ -236,7 +227,7 @@ def check_sides_seen(target: reg.Target, least: float = SIDE_SHARE_MIN) -> None:
     top = float(v[:, 1].max())
     centre = v[f].mean(axis=1)[:, 1]
     band = (centre > 0.45 * top) & (centre < 0.75 * top)
-    n = np.cross(v[f[band, 1]] - v[f[band, 0]], v[f[band, 2]] - v[f[band, 0]])
+    n = face_cross(v, f[band])
     area = 0.5 * np.linalg.norm(n, axis=1)
     if area.sum() <= 0:
         raise InputError("scan: no surface between the hips and the chest", "scan")
@@ -301,10 +292,8 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
     mb = measure_body(verts, faces, sex=sex)
     clock.lap("rig")
     landmarks = {k: [float(x) for x in val] for k, val in mb.get("landmarks", {}).items()}
-    scalars = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
-               "arm_length", "upper_arm_girth", "neck_girth")
     girths = {k: {"scan": round(float(m[k]), 4), "body": round(float(mb[k]), 4)}
-              for k in scalars if isinstance(m.get(k), (int, float))
+              for k in MEASUREMENTS if isinstance(m.get(k), (int, float))
               and isinstance(mb.get(k), (int, float))}
     report = {"sex": sex, **distances, "measurements": girths, "registration": how,
               "fit": fit, "seconds": {**clock.seconds,

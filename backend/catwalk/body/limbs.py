@@ -15,9 +15,6 @@ from catwalk.body.types import Skeleton
 from catwalk.motion.quat import rot_x, rot_z
 from catwalk.motion.skinning import skin
 
-SIDES = ("l", "r")
-
-
 ARM_PARAMETERS = ("abduction", "flexion", "elbow", "wrist_flexion", "wrist_abduction")
 
 
@@ -33,10 +30,12 @@ def arm_rotations(side: str, a) -> dict:
             f"hand_{side}": rot_x(-a[3]) @ rot_z(-sgn * a[4])}
 
 
-def joint_matrices(skeleton: Skeleton, rotations: dict) -> np.ndarray:
+def joint_matrices(skeleton: Skeleton, rotations: dict, world: np.ndarray | None = None
+                   ) -> np.ndarray:
     """Skinning matrices (J, 4, 4) turning each named joint by its rotation about its own
-    head at rest, carried down the hierarchy; joints not named follow their parents."""
-    world = skeleton.rest_world
+    head at rest, carried down the hierarchy; joints not named follow their parents.
+    ``world``: the skeleton's ``rest_world``, when already computed."""
+    world = skeleton.rest_world if world is None else world
     mats = np.empty((len(skeleton.names), 4, 4))
     for j, p in enumerate(skeleton.parents):   # parents come before their children
         local = np.eye(4)
@@ -50,13 +49,15 @@ def joint_matrices(skeleton: Skeleton, rotations: dict) -> np.ndarray:
 
 
 def pose_arms(vertices: np.ndarray, skeleton: Skeleton, skin_joints: np.ndarray,
-              skin_weights: np.ndarray, angles: dict, undo: bool = False) -> np.ndarray:
+              skin_weights: np.ndarray, angles: dict, undo: bool = False,
+              world: np.ndarray | None = None) -> np.ndarray:
     """The rest vertices with each arm ``side -> parameters`` (see :func:`arm_rotations`)
-    posed, float64; ``undo``: posed vertices back to rest (the inverse matrices, blended)."""
+    posed, float64; ``undo``: posed vertices back to rest (the inverse matrices, blended);
+    ``world``: as for :func:`joint_matrices`."""
     rotations = {}
     for side, a in angles.items():
         rotations.update(arm_rotations(side, a))
-    mats = joint_matrices(skeleton, rotations)
+    mats = joint_matrices(skeleton, rotations, world)
     if undo:
         mats = np.linalg.inv(mats)
     return skin(np.asarray(vertices, dtype=np.float64), skin_joints, skin_weights,

@@ -193,6 +193,7 @@ def girth_rings(gender: float) -> GirthRings:
     """
     from catwalk.body.measure import measure_body
     from catwalk.body.rig import build_rig
+    from catwalk.mesh import unique_edges
 
     space = shape_space(gender)
     sex = "female" if gender < 0.5 else "male"
@@ -202,8 +203,7 @@ def girth_rings(gender: float) -> GirthRings:
     faces = mh.load_base_mesh().body_triangles
     lm = measure_body(v, faces, sex=sex)["landmarks"]
     arm = (parts == 1) | (parts == 2)
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    e = np.unique(np.sort(e, axis=1), axis=0)
+    e = unique_edges(faces, len(v))
     e = e[~arm[e[:, 0]] & ~arm[e[:, 1]]]
     anchors, edges = {}, {}
     for key in GIRTHS:

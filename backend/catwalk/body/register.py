@@ -25,6 +25,7 @@ from scipy.sparse.linalg import factorized
 from scipy.spatial import cKDTree
 
 from catwalk.errors import Cancelled
+from catwalk.mesh import compact, edge_keys, folds, smooth_pairs, unique_edges
 from catwalk.render.raster import vertex_normals
 from catwalk.simulate.metrics import BodySurface
 
@@ -54,12 +55,8 @@ class Target:
 
     @classmethod
     def of(cls, vertices: np.ndarray, faces: np.ndarray, seed: int = 0) -> Target:
-        f = np.asarray(faces, dtype=np.int64)
-        used = np.unique(f)                 # vertices on no triangle are no surface
-        remap = np.full(len(vertices), -1, dtype=np.int64)
-        remap[used] = np.arange(len(used))
-        v = np.ascontiguousarray(np.asarray(vertices, dtype=np.float64)[used])
-        f = np.ascontiguousarray(remap[f])
+        v, f = compact(np.asarray(vertices, dtype=np.float64), faces)   # (no surface there)
+        v, f = np.ascontiguousarray(v), np.ascontiguousarray(f)
         # a scan whose triangles wind inwards encloses a negative volume: turn them
         c = v.mean(axis=0)
         a, b, d = v[f[:, 0]] - c, v[f[:, 1]] - c, v[f[:, 2]] - c
@@ -95,13 +92,6 @@ class Target:
         corner = self.faces[t, np.argmax(bary, axis=1)]
         rim |= at_vertex & self.rim_vertex[corner]
         return q, np.abs(d), n, rim
-
-
-def _skew(a: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) cross-product matrices: _skew(a) @ b = a × b."""
-    z = np.zeros(len(a))
-    return np.stack([np.stack([z, -a[:, 2], a[:, 1]], 1), np.stack([a[:, 2], z, -a[:, 0]], 1),
-                     np.stack([-a[:, 1], a[:, 0], z], 1)], 1)
 
 
 def _similarity_step(x: np.ndarray, q: np.ndarray, n: np.ndarray, w: np.ndarray):
@@ -153,6 +143,7 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
     from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
 
     angles = {}
+    world = skeleton.rest_world          # once: the cost below is evaluated hundreds of times
     for side, part in (("l", 1), ("r", 2)):
         arm = np.flatnonzero(parts == part)
         va, ja, wa = v[arm], joints[arm], weights[arm]
@@ -162,7 +153,7 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
         tree = cKDTree(target.vertices[near])
 
         def cost(a, side=side, va=va, ja=ja, wa=wa, tree=tree):
-            x = pose_arms(va, skeleton, ja, wa, {side: a})
+            x = pose_arms(va, skeleton, ja, wa, {side: a}, world=world)
             d, _ = tree.query(x, distance_upper_bound=0.05)
             return float(np.mean(np.minimum(d, 0.05)))
 
@@ -179,49 +170,15 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
                                 "initial_simplex": a0 + np.vstack([np.zeros(5),
                                                                    0.05 * np.eye(5)])})
         angles[side] = [float(x) for x in res.x]
-    return pose_arms(v, skeleton, joints, weights, angles), angles
-
-
-def edge_keys(faces: np.ndarray, n: int) -> np.ndarray:
-    """Each triangle side as one int64 ``min · n + max`` (3F keys, shared sides repeated)."""
-    a = faces.ravel()
-    b = np.roll(faces, -1, axis=1).ravel()
-    return np.minimum(a, b) * n + np.maximum(a, b)
-
-
-def _edges(faces: np.ndarray, n: int) -> np.ndarray:
-    key = np.unique(edge_keys(faces, n))
-    return np.stack([key // n, key % n], 1)
+    return pose_arms(v, skeleton, joints, weights, angles, world=world), angles
 
 
 def _membrane(faces: np.ndarray, n: int) -> sp.csr_matrix:
     """MᵀM for the template's edge incidence M: Σ_edges |d_i − d_j|² = dᵀ MᵀM d."""
-    e = _edges(faces, n)
+    e = unique_edges(faces, n)
     rows = np.repeat(np.arange(len(e)), 2)
     m = sp.csr_matrix((np.tile([1.0, -1.0], len(e)), (rows, e.ravel())), shape=(len(e), n))
     return (m.T @ m).tocsc()
-
-
-def _face_normals(v: np.ndarray, faces: np.ndarray) -> np.ndarray:
-    n = np.cross(v[faces[:, 1]] - v[faces[:, 0]], v[faces[:, 2]] - v[faces[:, 0]])
-    return n / (np.linalg.norm(n, axis=1, keepdims=True) + 1e-30)
-
-
-def _face_pairs(faces: np.ndarray, n: int) -> np.ndarray:
-    """(P, 2) triangles sharing a side."""
-    key = edge_keys(faces, n)
-    order = np.argsort(key, kind="stable")
-    same = key[order][1:] == key[order][:-1]
-    return np.stack([order[:-1][same] // 3, order[1:][same] // 3], 1)
-
-
-def folds(x: np.ndarray, v0: np.ndarray, faces: np.ndarray, pairs=None) -> np.ndarray:
-    """Triangle pairs folded over in ``x`` (their normals more than 90° apart) that were
-    smooth in ``v0`` (less than 60° apart)."""
-    pairs = _face_pairs(faces, len(x)) if pairs is None else pairs
-    n, n0 = _face_normals(x, faces), _face_normals(v0, faces)
-    a, b = pairs[:, 0], pairs[:, 1]
-    return pairs[(np.sum(n[a] * n[b], 1) < 0.0) & (np.sum(n0[a] * n0[b], 1) > 0.5)]
 
 
 def unfold(x: np.ndarray, v0: np.ndarray, faces: np.ndarray, rounds: int = 20) -> np.ndarray:
@@ -230,13 +187,13 @@ def unfold(x: np.ndarray, v0: np.ndarray, faces: np.ndarray, rounds: int = 20) -
     displacement, round after round until none is folded (a few hundred of 13,380 vertices
     move, by a millimetre or so)."""
     n = len(x)
-    e = _edges(faces, n)
+    e = unique_edges(faces, n)
     adj = sp.csr_matrix((np.ones(2 * len(e)), (e.ravel(), e[:, ::-1].ravel())), shape=(n, n))
     mean = sp.diags(1.0 / np.maximum(np.asarray(adj.sum(axis=1)).ravel(), 1.0)) @ adj
-    pairs = _face_pairs(faces, n)
+    smooth = smooth_pairs(v0, faces)
     x = x.copy()
     for _ in range(rounds):
-        bad = folds(x, v0, faces, pairs)
+        bad = folds(x, v0, faces, smooth)
         if not len(bad):
             break
         near = np.zeros(n, dtype=bool)
@@ -275,7 +232,7 @@ def nonrigid(v0: np.ndarray, faces: np.ndarray, target: Target, schedule=SCHEDUL
             q, d, qn, rim = target.closest(x)
             wf = ((d < reject) & ~rim & (np.sum(qn * nrm, 1) > NORMAL_AGREEMENT)).astype(float)
             # scan → template (barycentric rows)
-            c, dc, tri, bary = own.closest(x, pts)
+            c, dc, tri, bary = own.closest(x, pts, normals=nrm)
             tv = faces[tri]
             tn = nrm[tv].sum(axis=1)
             tn /= np.linalg.norm(tn, axis=1, keepdims=True) + 1e-30

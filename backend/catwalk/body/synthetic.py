@@ -108,10 +108,11 @@ def _subdivide(v, f, faces_wanted):
 
 def _holes(v, f, truth: TrueBody):
     """Faces kept: open at the crown, the soles and both armpits."""
+    from catwalk.mesh import face_normals
+
     cent = v[f].mean(axis=1)
     top = float(truth.vertices[:, 1].max())
-    n = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-    n /= np.linalg.norm(n, axis=1, keepdims=True) + 1e-30
+    n = face_normals(v, f)
     keep = cent[:, 1] < top - 0.025
     keep &= ~((cent[:, 1] < 0.012) & (n[:, 1] < -0.5))
     tv, tf, parts = truth.vertices, truth.faces, truth.parts
@@ -129,6 +130,7 @@ def scan_of(truth: TrueBody, faces: int = 300_000, noise_m: float = NOISE_M,
     """(vertices, faces) of a scan of ``truth`` in glTF metres (see the module's text)."""
     from scipy.spatial import cKDTree
 
+    from catwalk.mesh import compact
     from catwalk.render.raster import vertex_normals
     from catwalk.simulate.metrics import BodySurface
 
@@ -147,11 +149,7 @@ def scan_of(truth: TrueBody, faces: int = 300_000, noise_m: float = NOISE_M,
     tn /= np.linalg.norm(tn, axis=1, keepdims=True)
     v = on + rng.normal(scale=noise_m, size=(len(v), 1)) * tn if noise_m else on
     if holes:
-        f = _holes(v, f, truth)
-        used = np.unique(f)
-        remap = np.full(len(v), -1, dtype=np.int64)
-        remap[used] = np.arange(len(used))
-        v, f = v[used], remap[f]
+        v, f = compact(v, _holes(v, f, truth))
     return v, f.astype(np.int32)
 
 
@@ -167,11 +165,14 @@ def write_scan(path, v_gltf: np.ndarray, f: np.ndarray) -> None:
     trimesh.Trimesh(to_file_frame(v_gltf), f, process=False).export(str(path))
 
 
-def truth_in_scan_frame(truth: TrueBody, scan) -> np.ndarray:
-    """The true vertices where :func:`catwalk.exchange.scan.load_scan` put the scan's file
-    (written by :func:`write_scan`): the file's frame, then the loader's alignment."""
+def truth_in_scan_frame(truth: TrueBody, scan, report: dict | None = None) -> np.ndarray:
+    """The true vertices where the registered body is: the scan's file (written by
+    :func:`write_scan`) as :func:`catwalk.exchange.scan.load_scan` aligned it, then moved as
+    the registration moved the scan after tidying it (``report["registration"]["moved_m"]``
+    of :func:`catwalk.body.from_scan.body_from_scan`)."""
     m = scan.transform @ FILE_FROM_GLTF
-    return truth.vertices @ m[:3, :3].T + m[:3, 3]
+    moved = (report or {}).get("registration", {}).get("moved_m", (0.0, 0.0, 0.0))
+    return truth.vertices @ m[:3, :3].T + m[:3, 3] + np.asarray(moved)
 
 
 def distance_to_truth(truth_v: np.ndarray, faces: np.ndarray, body_v: np.ndarray,

@@ -22,6 +22,12 @@ PART_LEFT_LEG = 3
 PART_RIGHT_LEG = 4
 PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
 
+#: what :func:`catwalk.body.measure.measure_body` measures that is shown for a body (metres),
+#: in this order; ``GIRTHS``: those round the body
+MEASUREMENTS = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
+                "arm_length", "upper_arm_girth", "neck_girth")
+GIRTHS = ("bust", "underbust", "waist", "hips", "neck_girth", "upper_arm_girth")
+
 
 @dataclass
 class Skeleton:

@@ -144,7 +144,7 @@ def _hints(name: str, ptype: str, centre3d: np.ndarray) -> Placement:
     else:
         part = "torso"
     side = "front" if z >= 0 else "back"
-    return Placement(part=part, side=side, wrap=part != "torso" or True)
+    return Placement(part=part, side=side, wrap=True)
 
 
 def _limb_parts_of_cuffs(panels: list[Panel], seams: list[Seam]) -> None:

@@ -34,6 +34,8 @@ import numpy as np
 
 from catwalk.errors import InputError
 from catwalk.exchange.source import read_source
+from catwalk.mesh import compact, edge_keys
+from catwalk.mesh import components as mesh_components
 
 MAX_FACES = 2_000_000
 MAX_VERTICES = 3 * MAX_FACES
@@ -208,10 +210,7 @@ def _topology_report(faces: np.ndarray, nverts: int) -> tuple[int, int, int]:
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
-    e.sort(axis=1)
-    key = e[:, 0] * nverts + e[:, 1]
-    uniq, counts = np.unique(key, return_counts=True)
+    uniq, counts = np.unique(edge_keys(faces, nverts), return_counts=True)
     boundary = uniq[counts == 1]
     nonmanifold = int(np.count_nonzero(counts > 2))
     holes = 0
@@ -220,10 +219,8 @@ def _topology_report(faces: np.ndarray, nverts: int) -> tuple[int, int, int]:
         g = coo_matrix((np.ones(len(a)), (a, b)), shape=(nverts, nverts))
         ncomp, lab = connected_components(g, directed=False)
         holes = _count_distinct(lab[_used(np.concatenate([a, b]), nverts)])
-    used = _used(faces, nverts)
-    g = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(nverts, nverts))
-    _, lab = connected_components(g, directed=False)
-    components = _count_distinct(lab[used])
+    _, lab = mesh_components(faces, nverts)
+    components = _count_distinct(lab[_used(faces, nverts)])
     return holes, components, nonmanifold
 
 
@@ -483,11 +480,7 @@ def load_scan(source, *, format: str | None = None, name: str | None = None) -> 
     v, f = _merge_vertices(v, f, tol=1e-6)
     if len(f) == 0:
         raise InputError(f"{path}: degenerate geometry: every face collapses")
-    used = _used(f, len(v))
-    if used.size != len(v):  # drop unreferenced vertices: stray points are no surface
-        remap = np.full(len(v), -1, np.int64)
-        remap[used] = np.arange(used.size)
-        v, f = v[used], remap[f]
+    v, f = compact(v, f)    # drop unreferenced vertices: stray points are no surface
     holes, components, nonmanifold = _topology_report(f, len(v))
     up_axis, up_sign = _detect_up(v, f)
     fwd_axis, fwd_sign, detected = _detect_forward(v, f, up_axis, up_sign)

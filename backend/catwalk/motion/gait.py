@@ -699,6 +699,16 @@ def foot_sliding(body: Body, motion: Motion, verts: np.ndarray, contact: float =
     return np.array(out)
 
 
+def walk_folds(body: Body, verts: np.ndarray, every: int = 2) -> int:
+    """The most triangle pairs folded over (normals more than 90° apart) in any of the walk's
+    frames (every ``every``-th) that were smooth (under 60°) at rest: the skinning's creases."""
+    from catwalk.mesh import folds, smooth_pairs
+
+    smooth = smooth_pairs(body.vertices, body.faces)
+    return max(len(folds(np.asarray(verts[i], np.float64), body.vertices, body.faces, smooth))
+               for i in range(0, len(verts), every))
+
+
 def sagittal_angles(body: Body, motion: Motion, side: str = "l"):
     """(phase, hip, knee, ankle) in degrees over the frames of a walk, measured from the joint
     positions in the sagittal (y, z) plane the way the tables define them: hip flexion of the

@@ -20,9 +20,8 @@ import multiprocessing
 import shutil
 from pathlib import Path
 
-# the measurements shown for a body (metres), in this order
-SHOWN = ("height", "bust", "underbust", "waist", "hips", "inseam", "shoulder_width",
-         "arm_length", "upper_arm_girth", "neck_girth")
+from catwalk.body.types import MEASUREMENTS as SHOWN  # shown for a body, in this order
+
 MEASUREMENT_FIELDS = ("height", "bust", "waist", "hips")
 
 

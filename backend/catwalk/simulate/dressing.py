@@ -98,6 +98,10 @@ class Dressed:
         return (self.state.positions if x is None else x)[self.rep]
 
 
+def seam_names(garment) -> list[str]:
+    """The garment's seams as the dressing names them (a seam without a name: ``seam k``)."""
+    return [sm.name or f"seam {k}" for k, sm in enumerate(garment.seams)]
+
 def _never() -> bool:
     return False
 
@@ -367,7 +371,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
                 and means[-1 - lag] - means[-1] < 0.02 * means[-1 - lag]):
             break   # stalled: neither the widest nor the mean gap shrank by 2 % in 0.3 s
     t_sewn = time.perf_counter()
-    seam_names = [s.name or f"seam {k}" for k, s in enumerate(garment.seams)]
+    names = seam_names(garment)
     sewn = state.positions.copy()
     gap_sewn = float(gaps.max())
 
@@ -438,11 +442,11 @@ def dress(body, garment, size: str | None = None, fabric=None,
     t_end = time.perf_counter()
 
     # --- seams still open ---
-    open_gap = {name: 0.0 for name in seam_names}
+    open_gap = {name: 0.0 for name in names}
     if len(welded.seam_a):
         left = seam_gaps(welded, st.positions)
         for sid in np.unique(welded.seam_id):
-            open_gap[seam_names[int(sid)]] = float(left[welded.seam_id == sid].max())
+            open_gap[names[int(sid)]] = float(left[welded.seam_id == sid].max())
     worst = max(open_gap, key=open_gap.get)
     if open_gap[worst] > settings.max_open_gap:
         bad = ", ".join(f"{k!r} by {v * 100:.1f} cm" for k, v in

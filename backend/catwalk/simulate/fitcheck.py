@@ -108,12 +108,13 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
                             for name, g in sorted(gaps.items(), key=lambda kv: -kv[1])
                             if g > 1e3 * seam_limit]
     # penetration: the cloth as shown against the body it was dressed on (its rest pose)
+    from catwalk.simulate.dressing import seam_names
     from catwalk.simulate.metrics import BodySurface, penetration
 
     b = res.body
     surface = BodySurface(b.faces, len(b.vertices))
     if report["open_seams"]:
-        _explain_open_seams(report["open_seams"], d, b, surface, garment_seam_names(d))
+        _explain_open_seams(report["open_seams"], d, b, surface, seam_names(d.cloth.garment))
     shown = d.display if d.display is not None else d.state.positions
     pen = 1e3 * penetration(surface, b.vertices, shown)
     report["max_penetration_mm"] = round(float(pen.max()), 2) if len(pen) else 0.0
@@ -150,11 +151,6 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
 # of the fabric's strain limit (the garment is too small or too short there for this body)
 BODY_BETWEEN_MM = 5.0
 AT_LIMIT = 0.005
-
-
-def garment_seam_names(d) -> list[str]:
-    """The seams' names as the dressing reports them (a seam without a name: ``seam k``)."""
-    return [sm.name or f"seam {k}" for k, sm in enumerate(d.cloth.garment.seams)]
 
 
 def _explain_open_seams(open_seams: list[dict], d, body, surface, names: list[str]) -> None:

@@ -105,9 +105,6 @@ def static_frames(dressed: Dressed, name: str | None = None) -> GarmentFrames:
 
 # ---------------------------------------------------------------------------- the inputs
 
-SCAN_SUFFIXES = (".obj", ".ply", ".stl")
-
-
 def load_body(body, cancel=None) -> Body:
     """A body ready to dress and walk: a :class:`Body`, a .glb from ``catwalk body make`` or
     ``catwalk body from-scan`` as a path, bytes or a file object, or a scan's file (OBJ, PLY,
@@ -118,7 +115,7 @@ def load_body(body, cancel=None) -> Body:
 
         if isinstance(body, (str, Path)) and not Path(body).is_file():
             raise InputError(f"body {body}: no such file", "body")
-        if isinstance(body, (str, Path)) and (Path(body).suffix.lower() in SCAN_SUFFIXES
+        if isinstance(body, (str, Path)) and (Path(body).suffix.lower() != ".glb"
                                               or not _has_skin(body)):
             return body_of_scan(body, cancel)
         body = read_body(body)
