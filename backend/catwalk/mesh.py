@@ -62,8 +62,9 @@ def components(faces: np.ndarray, n: int) -> tuple[int, np.ndarray]:
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
-    e = unique_edges(faces, n)
-    graph = coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n))
+    f = np.asarray(faces, dtype=np.int64)     # two sides a triangle connect its three corners
+    graph = coo_matrix((np.ones(2 * len(f)), (np.r_[f[:, 0], f[:, 1]], np.r_[f[:, 1], f[:, 2]])),
+                       shape=(n, n))
     return connected_components(graph, directed=False)
 
 
