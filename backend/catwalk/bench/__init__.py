@@ -1,4 +1,5 @@
-"""Benchmarks (``catwalk bench …``) and what they share: the machine they ran on."""
+"""Benchmarks (``catwalk bench …``) and what they share: the machine they ran on, the
+output flags."""
 
 from __future__ import annotations
 
@@ -15,3 +16,16 @@ def cpu_model() -> str:
     except OSError:
         pass
     return platform.processor() or "unknown cpu"
+
+
+def add_output_flags(parser) -> None:
+    """``--quiet`` (no progress lines) and ``--json`` (print JSON instead of the table)."""
+    parser.add_argument("--quiet", action="store_true", help="no progress lines")
+    parser.add_argument("--json", action="store_true", help="print JSON")
+
+
+def progress_lines(args):
+    """A ``progress(what)`` printing a line per step, or None when quiet or printing JSON."""
+    if args.json or args.quiet:
+        return None
+    return lambda what: print(what, flush=True)

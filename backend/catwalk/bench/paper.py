@@ -44,7 +44,7 @@ def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float,
 
 
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
-        progress=None) -> dict:
+        progress=None, threads: int = 2) -> dict:
     from catwalk.bench import cpu_model
     from catwalk.bench.collide import figure10_displacement
     from catwalk.body.rig import measured_base_body
@@ -86,6 +86,7 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
         s = w.stats
         out[mode] = {
             "ms_per_frame": round(s["ms_per_frame"]["collider"] + s["ms_per_frame"]["cloth"], 2),
+            **_threaded(body, motion, dressed, settings.with_(collider=mode), threads, w),
             "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
             "max_penetration_mm": round(s["max_penetration_mm"], 2),
             "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
@@ -97,6 +98,26 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
     return out
 
 
+def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
+    """The same walk with the collider's object pass on ``threads`` threads: its ms per
+    frame (``ms_per_frame_2cores`` for 2) and whether it gave the same cloth, bit for bit."""
+    import numpy as np
+
+    from catwalk.cloth.solver import ClothExplosionError
+    from catwalk.simulate.walking import walk
+
+    if threads < 2:
+        return {}
+    key = "ms_per_frame_2cores" if threads == 2 else f"ms_per_frame_{threads}threads"
+    try:
+        w = walk(body, motion, dressed, settings.with_(threads=threads), measure=False)
+    except ClothExplosionError as exc:   # it cannot differ from one thread's; said if it did
+        return {key: None, "threads_same_cloth": False, "threads_error": str(exc)}
+    ms = w.stats["ms_per_frame"]
+    return {key: round(ms["collider"] + ms["cloth"], 2),
+            "threads_same_cloth": bool(np.array_equal(w.positions, one.positions))}
+
+
 def format_table(r: dict) -> str:
     def row(name, paper, mode):
         m = r.get(mode, {})
@@ -104,7 +125,9 @@ def format_table(r: dict) -> str:
             return f"| {name} | {paper} | exploded: {m['exploded']} |"
         if not m:
             return f"| {name} | {paper} | not run |"
-        return (f"| {name} | {paper} | {m['ms_per_frame']:.1f} ms/frame (max penetration "
+        two = f", {m['ms_per_frame_2cores']:.1f} on 2 cores" if m.get("ms_per_frame_2cores") \
+            else ""
+        return (f"| {name} | {paper} | {m['ms_per_frame']:.1f} ms/frame{two} (max penetration "
                 f"{m['max_penetration_mm']:.2f} mm, p99 {m['p99_penetration_mm']:.2f} mm, "
                 f"max strain {m['max_strain']:.3f}, p99 {m['p99_strain']:.3f}) |")
 
@@ -142,11 +165,14 @@ def main(args) -> int:
 
     if not 0.5 <= args.seconds <= 10:
         raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
+    if not 1 <= args.threads <= 64:
+        raise InputError(f"--threads must be within 1–64, got {args.threads}")
     bar = ProgressBar(quiet=args.json or args.quiet)
     try:
         # each stage of each run from 0 to 100 %
         r = run(args.seconds, tuple(args.modes),
-                progress=lambda stage, i, total: bar(i / total if total else 1.0, stage))
+                progress=lambda stage, i, total: bar(i / total if total else 1.0, stage),
+                threads=args.threads)
     finally:
         bar.done()
     print(json.dumps(r, indent=2) if args.json else format_table(r))

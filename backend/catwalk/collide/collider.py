@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import hashlib
+import queue
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -180,7 +182,7 @@ class Collider:
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
                  map_region_pad=0.05, edge_fallback=True, limb_fallback=True,
-                 second_surface=True, skips: Skips | None = None):
+                 second_surface=True, skips: Skips | None = None, threads: int = 1):
         if mode not in MODES:
             raise InputError(f"collider mode must be one of {', '.join(MODES)}, not {mode!r}")
         faces = np.asarray(body_faces)
@@ -199,6 +201,9 @@ class Collider:
             raise InputError(f"edge_normal_z must be within 0..1, got {edge_normal_z!r}")
         if not (np.isfinite(friction) and friction >= 0):
             raise InputError(f"friction must be >= 0, got {friction!r}")
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
+                not 1 <= threads <= 64:
+            raise InputError(f"threads must be a whole number within 1–64, got {threads!r}")
         ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
         if len(ms) != 2 or min(ms) < 8 or max(ms) > 8192:
             raise InputError(f"map size must be 8..8192 pixels, got {map_size!r}")
@@ -262,6 +267,15 @@ class Collider:
         self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
         self._img_n = -1
         self._spd = np.zeros(2)
+        # with threads > 1 the object and image passes run over slices of the points at
+        # once, each thread with its own workspaces (kernels.object_pass, image_pass)
+        self.threads = int(threads)
+        self._pool = None
+        self._thread_ws = queue.SimpleQueue()
+        for _ in range(self.threads - 1):
+            self._thread_ws.put((np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool),
+                                 np.zeros(2), np.zeros((1, 54), np.float32),
+                                 np.zeros(K.N_STATS, np.int64)))
         self.tree = None  # built from the first frame's pose
         self._refit_done = np.zeros(N_PARTS, bool)
         self._maps_ready = False
@@ -622,20 +636,62 @@ class Collider:
         ck[3] = self._clock0[3] + alpha * self._body_speed
         ck[4] = self._frame + alpha
         t = _clock()
-        K.object_pass(pos, vel, prev, alpha, alpha_prev, self._ref, self._vb, self._vp,
-                      self.faces, self.face_part, self._nb, h.links, h.tris,
-                      h.root, active, lo, hi, self.thickness, self.friction, self.contact_slack,
-                      self.search_radius, self.max_depth, self.skips.far_points,
-                      self.skips.reuse_closest, self.reuse_tol, self.skips.clearance,
-                      self._body_speed,
-                      pts.cache_tri, pts.cache_p, pts.cache_c, pts.clear,
-                      pts.clear_rel, held, self.stats, self._stack, self._reach_work,
-                      self._frame, pts.rkey, pts.rec, pts.pspeed, pts.pstamp,
-                      self._spd, pts.last, pts.pclk, ck, pts.csw, pts.crel,
-                      pts.cstamp, self.search_radius, pts.ct2, pts.cp2, pts.cc2,
-                      pts.left, self._lf, self.planes, only, self.second_surface, self._rec2)
+
+        def points(start, stop, stack, reach, spd, rec2, stats):
+            K.object_pass(pos, vel, prev, alpha, alpha_prev, self._ref, self._vb, self._vp,
+                          self.faces, self.face_part, self._nb, h.links, h.tris,
+                          h.root, active, lo, hi, self.thickness, self.friction,
+                          self.contact_slack, self.search_radius, self.max_depth,
+                          self.skips.far_points, self.skips.reuse_closest, self.reuse_tol,
+                          self.skips.clearance, self._body_speed,
+                          pts.cache_tri, pts.cache_p, pts.cache_c, pts.clear,
+                          pts.clear_rel, held, stats, stack, reach,
+                          self._frame, pts.rkey, pts.rec, pts.pspeed, pts.pstamp,
+                          spd, pts.last, pts.pclk, ck, pts.csw, pts.crel,
+                          pts.cstamp, self.search_radius, pts.ct2, pts.cp2, pts.cc2,
+                          pts.left, self._lf, self.planes, only, self.second_surface, rec2,
+                          start, stop)
+
+        self._split(points, n, (self._stack, self._reach_work, self._spd, self._rec2,
+                                self.stats))
         self.timings.object_queries += _clock() - t
         return pts
+
+    def _split(self, points, n, own):
+        """``points(start, stop, stack, reach, spd, rec2, stats)`` over all ``n`` points: at
+        once on one thread, or over slices on ``threads`` threads — 4 slices a thread, taken
+        as threads come free (the cost per point varies along the garment), the calling
+        thread one of them with the workspaces ``own``, each other with its own (its counters
+        added to :attr:`stats` after)."""
+        if self.threads == 1 or n < 64 * self.threads:
+            points(0, n, *own)
+            return
+        if self._pool is None:
+            self._pool = ThreadPoolExecutor(self.threads - 1,
+                                            thread_name_prefix="catwalk-collide")
+        bounds = np.linspace(0, n, 4 * self.threads + 1).astype(int)
+        todo = queue.SimpleQueue()
+        for a, b in zip(bounds[:-1], bounds[1:], strict=True):
+            todo.put((int(a), int(b)))
+
+        def work(ws):
+            while True:
+                try:
+                    a, b = todo.get_nowait()
+                except queue.Empty:
+                    return
+                points(a, b, *ws)
+
+        helpers = []
+        for _ in range(self.threads - 1):
+            ws = self._thread_ws.get()
+            helpers.append((ws, self._pool.submit(work, ws)))
+        work(own)
+        for ws, fut in helpers:
+            fut.result()
+            self.stats += ws[4]
+            ws[4][:] = 0
+            self._thread_ws.put(ws)
 
     def _image(self, pos, vel, alpha, lo, hi, held, edge):
         if self.skips.unreached_parts and (np.any(self._torso_lo > hi) or
@@ -652,11 +708,16 @@ class Collider:
             self._patt = np.zeros((n, 12), np.float32)
             self._pwin = np.zeros(n, np.int8)
             self._img_n = n
-        K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
-                     self._torso_lo, self._torso_hi, self.thickness, self.friction,
-                     self.contact_slack, self.min_normal_z, self.skips.far_points, held,
-                     self.stats, self._pkey, self._pdep, self._patt, self.planes, edge,
-                     self.edge_normal_z, self._pwin)
+
+        def points(start, stop, stack, reach, spd, rec2, stats):
+            K.image_pass(pos, vel, alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
+                         self._torso_lo, self._torso_hi, self.thickness, self.friction,
+                         self.contact_slack, self.min_normal_z, self.skips.far_points, held,
+                         stats, self._pkey, self._pdep, self._patt, self.planes, edge,
+                         self.edge_normal_z, self._pwin, start, stop)
+
+        self._split(points, n, (self._stack, self._reach_work, self._spd, self._rec2,
+                                self.stats))
         self.timings.image_queries += _clock() - t
 
     def push_off_sharp(self, positions, triangles, moved=None) -> int:

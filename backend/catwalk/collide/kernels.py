@@ -296,14 +296,16 @@ def body_motion(v0, v1, idx, ref):
     return math.sqrt(best)
 
 
-@numba.njit(cache=True, _nrt=False)
+@numba.njit(cache=True, _nrt=False, nogil=True)
 def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part,
                 nb, links, tris, roots, part_active, cloth_lo, cloth_hi, thickness, friction,
                 slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
                 body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
                 reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only, second, rec2):
-    """Object-space collision of every cloth point against the active parts' hierarchies.
+                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only, second, rec2, start,
+                stop):
+    """Object-space collision of the cloth points ``start`` … ``stop`` − 1 against the active
+    parts' hierarchies.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
     current frame; at time ``alpha`` a node's box is their blend. Clearances are measured in
@@ -360,7 +362,11 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
 
     ``second``: also look, for each held point, for a second part facing the first within the
     thickness, the cloth pinched between (:func:`_second_surface`); ``rec2`` (1,54) float32:
-    workspace."""
+    workspace.
+
+    A point's work reads the body and writes only that point's entries, so disjoint ranges of
+    points run at once on several threads (the GIL released), each with its own workspaces
+    ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``."""
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -379,7 +385,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     if not any_part:
         # nothing is seen: the points' clocks stay where they were, so their next motion
         # counts everything since
-        stats[ST_SKIPPED] += pos.shape[0]
+        stats[ST_SKIPPED] += stop - start
         return
     touch = thickness + slack
     b = 1.0 - alpha
@@ -390,7 +396,7 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     inv_t = 1.0 / rest if rest > 1e-9 else 0.0
     tnow = clock[4]
     use_only = only.shape[0] > 0
-    for i in range(pos.shape[0]):
+    for i in range(start, stop):
         if use_only and not only[i]:
             continue
         px = pos[i, 0]
@@ -681,12 +687,14 @@ def _window_covered(D, i0, j0, s0, s1, h, w):
     return 0
 
 
-@numba.njit(cache=True, _nrt=False)
+@numba.njit(cache=True, _nrt=False, nogil=True)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
                slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge, edge_nz,
-               pwin):
-    """Image-space collision of every cloth point against front/back depth maps at time
-    ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps.
+               pwin, start, stop):
+    """Image-space collision of the cloth points ``start`` … ``stop`` − 1 against front/back
+    depth maps at time ``alpha`` between the previous (slot ``s0``) and the current (slot
+    ``s1``) frame's maps (a point's work writes only its own entries and ``stats``: disjoint
+    ranges run at once on several threads, each with its own ``stats``).
 
     ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). ``D``
     (H,W,2 slots,2 sides) float32 depth (side 0 front = nearest, 1 back = farthest;
@@ -729,7 +737,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     n_contact = 0
     n_edge = 0
     use_edge = edge.shape[0] > 0
-    for i in range(pos.shape[0]):
+    for i in range(start, stop):
         if use_edge and edge[i]:
             n_edge += 1  # marked by the caller: left to object space
             continue

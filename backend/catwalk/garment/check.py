@@ -119,7 +119,7 @@ def problem(message: str) -> dict:
 def resolve_fabric(spec, where: str = "fabric"):
     """A :class:`catwalk.cloth.fabrics.Fabric` from a preset name or a custom fabric object
     (``{"base": "denim", "density": 0.3}`` overrides a preset; otherwise every field of
-    ``Fabric`` is given)."""
+    ``Fabric`` is given), or a ``Fabric`` itself."""
     import dataclasses
 
     from catwalk.cloth.fabrics import Fabric, get_fabric
@@ -142,6 +142,8 @@ def resolve_fabric(spec, where: str = "fabric"):
                     or not math.isfinite(value):
                 raise InputError(f"{where}: {key} must be a number, got {value!r:.60}")
     try:
+        if isinstance(spec, Fabric):
+            return spec.validate()
         if isinstance(spec, str):
             return get_fabric(spec)
         if isinstance(spec, dict):

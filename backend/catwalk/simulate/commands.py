@@ -218,9 +218,16 @@ def register(top, groups) -> None:
     p.add_argument("--seconds", type=float, default=2.0, help="walk length (default 2)")
     p.add_argument("--modes", nargs="+", default=["image", "hybrid", "object"],
                    choices=["image", "hybrid", "object"], help="collider modes to walk")
+    p.add_argument("--threads", type=int, default=2,
+                   help="also walk each mode with the collider's object pass on this many "
+                   "threads (default 2: ms_per_frame_2cores; 1: not)")
     p.add_argument("--quiet", action="store_true", help="no progress")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_paper)
+
+    from catwalk.bench import pareto as bench_pareto
+
+    bench_pareto.register(groups["bench"])
 
     p = top.add_parser("dress", help="sew a garment onto a body and settle it (static .glb)",
                        description="Place the garment's panels round the body, sew, weld and "

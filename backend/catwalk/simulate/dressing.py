@@ -325,14 +325,14 @@ def dress(body, garment, size: str | None = None, fabric=None,
     verts = np.ascontiguousarray(body.vertices if vertices is None else vertices,
                                  dtype=np.float64)
     friction = gc.fabric.friction if settings.friction is None else settings.friction
-    collider = make_collider(settings.collider, body.faces, body.parts,
-                             map_size=(settings.map_size, settings.map_size),
-                             thickness=settings.thickness, friction=0.0)
+    collider = make_collider(settings.collider, body.faces, body.parts, friction=0.0,
+                             **settings.collider_options())
     collider.update(verts, np.zeros_like(verts))
     state = State.from_model(model)
     m_med = float(np.median(model.mass))
     w = settings.sew_omega
     solver = Solver(model, settings.method, gravity=(0.0, 0.0, 0.0), sewing=True,
+                    safety=settings.step_safety,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med, extra_air=2.0,
                     held_fixed=False, order_tolerance=ORDER_TOLERANCE)
     x0 = state.positions.copy()
@@ -382,6 +382,7 @@ def dress(body, garment, size: str | None = None, fabric=None,
 
     def settle_solver(m):
         return Solver(m, settings.method, extra_air=SETTLE_AIR, held_fixed=False,
+                      safety=settings.step_safety,
                       order_tolerance=ORDER_TOLERANCE,
                       sewing=len(m.seam_a) > 0, seam_stiffness=w * w * m_med,
                       seam_damping=2.0 * w * m_med)

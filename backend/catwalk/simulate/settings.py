@@ -12,11 +12,18 @@ from catwalk.errors import InputError
 class Settings:
     """Everything that trades speed for accuracy in a try-on.
 
-    Cloth: ``h`` grid spacing (m), ``method`` strain limit (the paper's ``ordered``).
+    Cloth: ``h`` grid spacing (m), ``method`` strain limit (the paper's ``ordered``),
+    ``step_safety`` the share of the cloth's stable time step (eq. 4's bound,
+    :class:`~catwalk.cloth.solver.Solver`) its steps take — above 1 the explicit integration
+    blows up, so it is refused (``catwalk bench stress`` shows the evidence).
     Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
-    the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame.
+    the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame,
+    ``skips`` the collider's work-saving skips (:class:`~catwalk.collide.collider.Skips`) all
+    on, or all off (the reference of ``catwalk bench pareto``), ``threads`` the threads the
+    collider's object pass splits the cloth's points over (one try-on on a machine of its own:
+    its cores; a worker among as many as the cores: 1).
     Dressing: ``sew_collisions`` / ``settle_collisions`` collider resolves per 1/30 s while
     sewing / settling (the body stands still: between two, contact planes hold the points it
     holds; settling cloth moves at cm/s, sewing cloth at up to m/s). Seams pull with angular
@@ -34,8 +41,11 @@ class Settings:
     name: str = "balanced"
     h: float = 0.015
     method: str = "ordered"
+    step_safety: float = 0.9
     collider: str = "object"
     map_size: int = 256
+    skips: bool = True
+    threads: int = 1
     thickness: float = 0.004
     friction: float | None = None
     max_move: float = 0.01
@@ -63,6 +73,14 @@ class Settings:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and v > 0):
                 raise InputError(f"setting {key} must be a positive number, got {v!r}")
+        if not (isinstance(self.step_safety, (int, float)) and 0.05 <= self.step_safety <= 1.0):
+            raise InputError(f"setting step_safety must be within 0.05–1 (the share of the "
+                             f"cloth's stable time step its steps take; beyond 1 the explicit "
+                             f"integration is unstable and blows up), got {self.step_safety!r}")
+        if isinstance(self.threads, bool) or not isinstance(self.threads, int) or \
+                not 1 <= self.threads <= 64:
+            raise InputError(f"setting threads must be a whole number within 1–64, got "
+                             f"{self.threads!r}")
         if not (0.004 <= self.h <= 0.1):
             raise InputError(f"grid spacing h must be within 0.004–0.1 m, got {self.h}")
         if self.min_collisions < 1 or self.max_collisions < self.min_collisions:
@@ -72,6 +90,16 @@ class Settings:
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
+
+    def collider_options(self) -> dict:
+        """The keyword arguments of :func:`~catwalk.collide.make_collider` these settings
+        fix (friction is the caller's: the fabric's, or none while sewing)."""
+        from catwalk.collide import Skips
+
+        off = Skips(unreached_parts=False, still_torso=False, far_points=False,
+                    reuse_closest=False, clearance=False)
+        return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
+                "skips": None if self.skips else off, "threads": self.threads}
 
     def with_(self, **changes) -> Settings:
         """A copy with some settings changed (None values are ignored)."""
@@ -86,8 +114,9 @@ PRESETS: dict[str, Settings] = {
                      sew_collisions=10,
                      sew_seconds=1.5, settle_seconds=1.5, blend_seconds=0.4),
     "balanced": Settings(),
-    "accurate": Settings(name="accurate", h=0.01, map_size=384, max_move=0.003,
-                         min_collisions=40, max_collisions=120, thickness=0.003,
+    # the walk as balanced's at a finer grid: 4× the resolves and a 3 mm thickness cost 36 %
+    # more a frame and bought nothing measurable (catwalk bench pareto, docs/accuracy.md)
+    "accurate": Settings(name="accurate", h=0.01, map_size=384,
                          sew_collisions=40, settle_collisions=20,
                          sew_seconds=3.0, settle_seconds=3.0, settle_speed=0.015),
 }

@@ -112,13 +112,13 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     frame_dt = 1.0 / motion.fps
     model, state = dressed.model, dressed.state.copy()
     friction = dressed.cloth.fabric.friction if settings.friction is None else settings.friction
-    collider = make_collider(settings.collider, body.faces, body.parts,
-                             map_size=(settings.map_size, settings.map_size),
-                             thickness=settings.thickness, friction=friction)
+    collider = make_collider(settings.collider, body.faces, body.parts, friction=friction,
+                             **settings.collider_options())
     collider.update(verts[0].astype(np.float64), vels[0].astype(np.float64))
     m_med = float(np.median(dressed.cloth.model.mass))
     w = settings.sew_omega
     solver = Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
+                    safety=settings.step_safety,
                     order_tolerance=ORDER_TOLERANCE,
                     seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
     seam_gap = 0.0
@@ -131,6 +131,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     x0 = state.positions.copy()
     t_col = t_cloth = 0.0
     per_frame, pen_max, pen_p99, strains, strains99, ncols = [], [], [], [], [], []
+    kinetic = []
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
@@ -171,6 +172,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                 sharp += n_sharp
                 sharp_mm = max(sharp_mm, _max_move(xs, state.positions))
             out[rec] = xs[dressed.rep]
+            v = state.velocities
+            kinetic.append(0.5 * float(model.mass @ np.einsum("ij,ij->i", v, v)))
             e = strain_of(model, state.positions)
             strains.append(float(e.max()) if len(e) else 0.0)
             strains99.append(float(np.percentile(e, 99)) if len(e) else 0.0)
@@ -203,6 +206,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         "exploded": False, "nan": False,   # either aborts the walk with ClothExplosionError
         "slowed_points": int(slowed), "sharp_pushes": int(sharp),
         "sharp_push_max_mm": 1e3 * sharp_mm,
+        "kinetic_j_per_frame": [round(k, 6) for k in kinetic],
     }
     if surface is not None and pen_max:
         stats["max_penetration_mm"] = 1e3 * max(pen_max)

@@ -1,0 +1,54 @@
+"""``catwalk bench stress``: an unstable cell is refused with a message, and the refusal is
+needed (with the guard off the same step blows up); a stable cell walks with its errors."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from catwalk.bench import stress
+from catwalk.errors import InputError
+from catwalk.simulate import preset
+
+
+def test_a_step_beyond_the_stable_one_is_refused_with_a_message():
+    with pytest.raises(InputError, match="step_safety must be within 0.05–1"):
+        preset("balanced").with_(step_safety=1.8)
+    with pytest.raises(InputError, match="unstable"):
+        replace(preset("fast"), step_safety=3.6).check()
+    assert preset("balanced").with_(step_safety=1.0).step_safety == 1.0
+
+
+@pytest.fixture(scope="module")
+def skirt():
+    from catwalk.exchange.garment_json import load_garment
+    from catwalk.garment.catalogue import catalogue_files
+
+    return load_garment(next(p for p in catalogue_files() if p.stem == "pencil-skirt"))
+
+
+def test_the_stress_cells_refuse_run_and_blow_up_as_reported(dressable_body, skirt):
+    fast = preset("fast").with_(settle_seconds=0.5)
+    refused = stress.cell(dressable_body, skirt, "M", replace(fast, step_safety=1.8))
+    assert refused["status"] == "refused" and "step_safety" in refused["message"]
+    run = stress.cell(dressable_body, skirt, "M", fast, seconds=0.5)
+    assert run["status"] == "ok", run
+    assert run["max_penetration_mm"] <= 2.0
+    assert 0 < run["p99_strain"] <= min(run["max_strain"], 2 * run["tau"])
+    assert run["energy_ratio"] is not None and np.isfinite(run["energy_ratio"])
+    too_fast = stress.cell(dressable_body, skirt, "M", fast, speed=4.8)
+    assert too_fast["status"] == "refused" and "speed" in too_fast["message"]
+
+    from catwalk.simulate import dress
+
+    dressed = dress(dressable_body, skirt, "M", settings=fast)
+    # the refusal is needed: the same cloth at 1.8 × its stable step, guard off, blows up
+    off = stress.blow_up_time(dressable_body, dressed, 1.8, seconds=0.5)
+    assert off["blew_up_after_s"] is not None and "exploded" in off["message"]
+    on = stress.blow_up_time(dressable_body, dressed, 0.9, seconds=0.1)
+    assert on["blew_up_after_s"] is None
+
+
+def test_energy_ratio():
+    assert stress.energy_ratio([1.0, 1.0, 3.0, 3.0]) == 3.0
+    assert stress.energy_ratio([1.0, 2.0]) is None
