@@ -29,6 +29,7 @@ def test_threads_give_the_same_positions_velocities_and_planes(mode):
                 v = np.zeros_like(x)
                 held = c.resolve(x, v, prev)
                 out.append((x.copy(), v.copy(), held.copy(), c.planes.copy()))
+        assert (c._pool is not None) == (threads > 1)   # the threaded path ran
         runs.append((out, c.stats.copy()))
     (one, stats1), (three, stats3) = runs
     assert sum(h.sum() for _, _, h, _ in one) > 100   # the body holds cloth: a real test
@@ -42,3 +43,36 @@ def test_threads_are_checked():
     body = mannequin_walk(n_frames=1, resolution=0.5)
     with pytest.raises(InputError, match="threads"):
         make_collider("object", body.faces, body.parts, threads=0)
+
+
+def test_a_failing_slice_raises_after_every_thread_stopped_and_the_next_call_works():
+    body = mannequin_walk(n_frames=1, resolution=0.5)
+    c = make_collider("object", body.faces, body.parts, threads=3)
+    seen = []
+
+    def points(start, stop, *ws):
+        seen.append((start, stop))
+        if start == 0:
+            raise RuntimeError("slice failed")
+        ws[4][0] += stop - start   # a counter, summed into the collider's
+
+    own = (c._stack, c._reach_work, c._spd, c._rec2, c.stats)
+    with pytest.raises(RuntimeError, match="slice failed"):
+        c._split(points, 1200, own)
+    seen.clear()
+    c.stats[:] = 0
+    c._split(lambda a, b, *ws: (seen.append((a, b)), ws[4].__setitem__(0, ws[4][0] + b - a)),
+             1200, own)
+    assert sorted(seen)[0][0] == 0 and sorted(seen)[-1][1] == 1200 and len(seen) == 12
+    assert c.stats[0] == 1200   # every thread's counters added, none lost or doubled
+
+
+def test_the_settings_reach_the_collider():
+    from catwalk.simulate import preset
+
+    opts = preset("balanced").with_(threads=2, skips=False).collider_options()
+    c = make_collider("hybrid", mannequin_walk(n_frames=1, resolution=0.5).faces,
+                      mannequin_walk(n_frames=1, resolution=0.5).parts, **opts)
+    assert c.threads == 2 and not any(vars(c.skips).values())
+    with pytest.raises(InputError, match="skips must be true or false"):
+        preset("balanced").with_(skips="no")

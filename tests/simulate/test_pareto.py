@@ -3,7 +3,7 @@ growing with the time step; the Pareto front."""
 
 import numpy as np
 
-from catwalk.bench.pareto import pareto_front, reference_settings, surface_rms
+from catwalk.bench.pareto import format_table, pareto_front, reference_settings, surface_rms
 from catwalk.cloth.scenes import hanging_cloth
 from catwalk.cloth.solver import Solver
 from catwalk.simulate import preset
@@ -41,3 +41,16 @@ def test_the_reference_is_finer_in_every_setting():
     assert ref.collider == "object" and not ref.skips
     assert ref.step_safety == base.step_safety / 4 and ref.max_move == base.max_move / 4
     assert ref.min_collisions == 4 * base.min_collisions and ref.h <= base.h
+
+
+def test_the_table_marks_the_front_and_failed_runs():
+    ref = {"settings": {"h": 0.01}, "points": 100, "ms_per_frame": 900.0}
+    run = {"label": "preset fast", "points": 50, "ms_per_frame": 20.0, "rms_mm": 12.5,
+           "max_penetration_mm": 0.0, "p99_penetration_mm": 0.0, "max_strain": 0.2,
+           "p99_strain": 0.1, "max_seam_gap_mm": 0.0, "pareto": True}
+    r = {"seconds": 2.0, "frames": 53, "machine": {"cpu": "test"}, "reference": ref,
+         "noise_mm": 9.0, "runs": [run, {"label": "image", "failed": "exploded"}]}
+    t = format_table(r)
+    assert "| preset fast | 50 | 20.0 | 12.5 |" in t and "**yes**" in t
+    assert "| image | | failed: exploded |" in t
+    assert "noise floor (reference vs itself moved 0.1 mm): 9.0 mm RMS" in t

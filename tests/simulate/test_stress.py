@@ -52,3 +52,22 @@ def test_the_stress_cells_refuse_run_and_blow_up_as_reported(dressable_body, ski
 def test_energy_ratio():
     assert stress.energy_ratio([1.0, 1.0, 3.0, 3.0]) == 3.0
     assert stress.energy_ratio([1.0, 2.0]) is None
+
+
+def test_the_table_says_what_each_cell_is():
+    ok = {"axis": "speed", "value": 1.0, "status": "ok", "max_penetration_mm": 0.0,
+          "p99_penetration_mm": 0.0, "max_strain": 0.3, "p99_strain": 0.1, "tau": 0.1,
+          "energy_ratio": 1.2, "energy_bounded": True, "ms_per_frame": 80.0}
+    refused = {"axis": "step", "value": 2.0, "status": "refused", "message": "step_safety …",
+               "guard_off": {"blew_up_after_s": 0.05, "message": "exploded"}}
+    nan = {"axis": "garment", "value": "x M", "status": "nan",
+           "message": "non-finite cloth positions in the walk's result"}
+    r = {"garment": "dress", "size": "M", "preset": "balanced", "machine": {"cpu": "test"},
+         "cells": [ok, refused, nan],
+         "summary": {"cells": 3, "ok": 1, "exploded": 0, "refused": 1, "nan": 1,
+                     "energy_unbounded": 0}}
+    t = stress.format_table(r)
+    assert "| speed | 1.0 | ok | 0.00 / 0.00 |" in t
+    assert "refused: step_safety …; with the guard off it blew up after 0.05 s" in t
+    assert "nan: non-finite cloth positions" in t
+    assert "1 with NaN" in t

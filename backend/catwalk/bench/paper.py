@@ -110,7 +110,9 @@ def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
         return {}
     key = "ms_per_frame_2cores" if threads == 2 else f"ms_per_frame_{threads}threads"
     try:
-        w = walk(body, motion, dressed, settings.with_(threads=threads), measure=False)
+        # measured like the one-thread walk (the check between frames is not timed, but
+        # it runs there too)
+        w = walk(body, motion, dressed, settings.with_(threads=threads))
     except ClothExplosionError as exc:   # it cannot differ from one thread's; said if it did
         return {key: None, "threads_same_cloth": False, "threads_error": str(exc)}
     ms = w.stats["ms_per_frame"]

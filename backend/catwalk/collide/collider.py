@@ -5,7 +5,8 @@ from __future__ import annotations
 import hashlib
 import queue
 import time
-from concurrent.futures import ThreadPoolExecutor
+import weakref
+from concurrent.futures import ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -271,11 +272,9 @@ class Collider:
         # once, each thread with its own workspaces (kernels.object_pass, image_pass)
         self.threads = int(threads)
         self._pool = None
-        self._thread_ws = queue.SimpleQueue()
-        for _ in range(self.threads - 1):
-            self._thread_ws.put((np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool),
-                                 np.zeros(2), np.zeros((1, 54), np.float32),
-                                 np.zeros(K.N_STATS, np.int64)))
+        self._thread_ws = [(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool),
+                            np.zeros(2), np.zeros((1, 54), np.float32),
+                            np.zeros(K.N_STATS, np.int64)) for _ in range(self.threads - 1)]
         self.tree = None  # built from the first frame's pose
         self._refit_done = np.zeros(N_PARTS, bool)
         self._maps_ready = False
@@ -669,6 +668,8 @@ class Collider:
         if self._pool is None:
             self._pool = ThreadPoolExecutor(self.threads - 1,
                                             thread_name_prefix="catwalk-collide")
+            # the idle threads end with the collider
+            weakref.finalize(self, self._pool.shutdown, wait=False)
         bounds = np.linspace(0, n, 4 * self.threads + 1).astype(int)
         todo = queue.SimpleQueue()
         for a, b in zip(bounds[:-1], bounds[1:], strict=True):
@@ -682,16 +683,18 @@ class Collider:
                     return
                 points(a, b, *ws)
 
-        helpers = []
-        for _ in range(self.threads - 1):
-            ws = self._thread_ws.get()
-            helpers.append((ws, self._pool.submit(work, ws)))
-        work(own)
-        for ws, fut in helpers:
-            fut.result()
-            self.stats += ws[4]
-            ws[4][:] = 0
-            self._thread_ws.put(ws)
+        futures = [self._pool.submit(work, ws) for ws in self._thread_ws]
+        try:
+            work(own)
+        finally:
+            # every helper has stopped before this returns or raises: none writes to the
+            # points after it, and their counters are taken even from a failed call
+            wait(futures)
+            for ws in self._thread_ws:
+                self.stats += ws[4]
+                ws[4][:] = 0
+        for f in futures:
+            f.result()   # a helper's error, raised here
 
     def _image(self, pos, vel, alpha, lo, hi, held, edge):
         if self.skips.unreached_parts and (np.any(self._torso_lo > hi) or

@@ -219,8 +219,8 @@ def register(top, groups) -> None:
     p.add_argument("--modes", nargs="+", default=["image", "hybrid", "object"],
                    choices=["image", "hybrid", "object"], help="collider modes to walk")
     p.add_argument("--threads", type=int, default=2,
-                   help="also walk each mode with the collider's object pass on this many "
-                   "threads (default 2: ms_per_frame_2cores; 1: not)")
+                   help="also walk each mode with the collider's object and image passes "
+                   "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
     p.add_argument("--quiet", action="store_true", help="no progress")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_paper)

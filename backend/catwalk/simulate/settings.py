@@ -22,8 +22,8 @@ class Settings:
     the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame,
     ``skips`` the collider's work-saving skips (:class:`~catwalk.collide.collider.Skips`) all
     on, or all off (the reference of ``catwalk bench pareto``), ``threads`` the threads the
-    collider's object pass splits the cloth's points over (one try-on on a machine of its own:
-    its cores; a worker among as many as the cores: 1).
+    collider's object and image passes split the cloth's points over (one try-on on a machine
+    of its own: its cores; a worker among as many as the cores: 1).
     Dressing: ``sew_collisions`` / ``settle_collisions`` collider resolves per 1/30 s while
     sewing / settling (the body stands still: between two, contact planes hold the points it
     holds; settling cloth moves at cm/s, sewing cloth at up to m/s). Seams pull with angular
@@ -73,7 +73,10 @@ class Settings:
             v = getattr(self, key)
             if not (isinstance(v, (int, float)) and v > 0):
                 raise InputError(f"setting {key} must be a positive number, got {v!r}")
-        if not (isinstance(self.step_safety, (int, float)) and 0.05 <= self.step_safety <= 1.0):
+        if not isinstance(self.skips, bool):
+            raise InputError(f"setting skips must be true or false, got {self.skips!r}")
+        if isinstance(self.step_safety, bool) or not isinstance(self.step_safety, (int, float)) \
+                or not 0.05 <= self.step_safety <= 1.0:
             raise InputError(f"setting step_safety must be within 0.05–1 (the share of the "
                              f"cloth's stable time step its steps take; beyond 1 the explicit "
                              f"integration is unstable and blows up), got {self.step_safety!r}")
