@@ -56,13 +56,16 @@ def test_a_failing_slice_raises_after_every_thread_stopped_and_the_next_call_wor
             raise RuntimeError("slice failed")
         ws[4][0] += stop - start   # a counter, summed into the collider's
 
-    own = (c._stack, c._reach_work, c._spd, c._rec2, c.stats)
     with pytest.raises(RuntimeError, match="slice failed"):
-        c._split(points, 1200, own)
+        c._split(points, 1200)
     seen.clear()
     c.stats[:] = 0
-    c._split(lambda a, b, *ws: (seen.append((a, b)), ws[4].__setitem__(0, ws[4][0] + b - a)),
-             1200, own)
+
+    def counts(start, stop, *ws):
+        seen.append((start, stop))
+        ws[4][0] += stop - start
+
+    c._split(counts, 1200)
     assert sorted(seen)[0][0] == 0 and sorted(seen)[-1][1] == 1200 and len(seen) == 12
     assert c.stats[0] == 1200   # every thread's counters added, none lost or doubled
 

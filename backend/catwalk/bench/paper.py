@@ -99,7 +99,7 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
 
 
 def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
-    """The same walk with the collider's object pass on ``threads`` threads: its ms per
+    """The same walk with the collider's passes on ``threads`` threads: its ms per
     frame (``ms_per_frame_2cores`` for 2) and whether it gave the same cloth, bit for bit."""
     import numpy as np
 

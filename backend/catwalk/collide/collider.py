@@ -651,17 +651,17 @@ class Collider:
                           pts.left, self._lf, self.planes, only, self.second_surface, rec2,
                           start, stop)
 
-        self._split(points, n, (self._stack, self._reach_work, self._spd, self._rec2,
-                                self.stats))
+        self._split(points, n)
         self.timings.object_queries += _clock() - t
         return pts
 
-    def _split(self, points, n, own):
+    def _split(self, points, n):
         """``points(start, stop, stack, reach, spd, rec2, stats)`` over all ``n`` points: at
         once on one thread, or over slices on ``threads`` threads — 4 slices a thread, taken
         as threads come free (the cost per point varies along the garment), the calling
-        thread one of them with the workspaces ``own``, each other with its own (its counters
-        added to :attr:`stats` after)."""
+        thread one of them with the collider's own workspaces, each other with its own (its
+        counters added to :attr:`stats` after)."""
+        own = (self._stack, self._reach_work, self._spd, self._rec2, self.stats)
         if self.threads == 1 or n < 64 * self.threads:
             points(0, n, *own)
             return
@@ -719,8 +719,7 @@ class Collider:
                          stats, self._pkey, self._pdep, self._patt, self.planes, edge,
                          self.edge_normal_z, self._pwin, start, stop)
 
-        self._split(points, n, (self._stack, self._reach_work, self._spd, self._rec2,
-                                self.stats))
+        self._split(points, n)
         self.timings.image_queries += _clock() - t
 
     def push_off_sharp(self, positions, triangles, moved=None) -> int:
