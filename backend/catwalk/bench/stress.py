@@ -55,7 +55,7 @@ def blow_up_time(body, dressed, safety: float, seconds: float = 0.5) -> dict:
     ``seconds``."""
     from catwalk.cloth.solver import ClothExplosionError, Solver
     from catwalk.collide import make_collider
-    from catwalk.simulate.dressing import collide_and_floor
+    from catwalk.simulate.stepping import collide_and_floor
 
     model, state = dressed.model, dressed.state.copy()
     solver = Solver(model, "ordered", held_fixed=False, allow_unstable=True)

@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.exchange.tryon_glb import GarmentFrames
 from catwalk.fileio import atomic_path
+from catwalk.simulate.frames import GarmentFrames
 
 SKIN_RGB = (0.80, 0.66, 0.58)
 

@@ -19,11 +19,11 @@ import numpy as np
 from catwalk.body.types import Body, Motion
 from catwalk.exchange.gltf import read_body, read_motion
 from catwalk.exchange.tryon_glb import (
-    GarmentFrames,
     embedded_images,
     panel_texture_images,
     read_garments,
 )
+from catwalk.simulate.frames import GarmentFrames
 
 SKIN_RGB = (0.80, 0.66, 0.58)
 

@@ -229,6 +229,10 @@ def register(top, groups) -> None:
 
     bench_pareto.register(groups["bench"])
 
+    from catwalk.bench import peers as bench_peers
+
+    bench_peers.register(groups["bench"])
+
     p = top.add_parser("dress", help="sew a garment onto a body and settle it (static .glb)",
                        description="Place the garment's panels round the body, sew, weld and "
                                    "settle them; write the dressed body as a .glb.")

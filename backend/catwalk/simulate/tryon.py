@@ -21,9 +21,9 @@ import numpy as np
 
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
-from catwalk.exchange.tryon_glb import GarmentFrames
 from catwalk.garment.model import Garment
 from catwalk.simulate.dressing import Dressed, dress
+from catwalk.simulate.frames import GarmentFrames
 from catwalk.simulate.progress import Progress, tryon_plan
 from catwalk.simulate.settings import PRESETS, Settings, preset
 from catwalk.simulate.walking import Walked, blend_frame_count, walk
@@ -85,7 +85,7 @@ class TryOn:
 
 def garment_frames(dressed: Dressed, times: np.ndarray, positions: np.ndarray,
                    name: str | None = None) -> GarmentFrames:
-    """The simulated garment as :class:`~catwalk.exchange.tryon_glb.GarmentFrames`: one vertex
+    """The simulated garment as :class:`~catwalk.simulate.frames.GarmentFrames`: one vertex
     per pattern point (panels keep their own UVs along seams)."""
     gc = dressed.cloth
     m = gc.model

@@ -28,21 +28,21 @@ import numpy as np
 from catwalk.body.types import Motion
 from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.collide import make_collider
+from catwalk.errors import Cancelled
 from catwalk.motion.skinning import body_frames
-from catwalk.simulate.dressing import (
-    ORDER_TOLERANCE,
-    Cancelled,
-    Dressed,
-    _max_move,
-    _never,
-    _quiet,
-    advance,
-    collide_and_floor,
-    collisions_for,
-)
+from catwalk.simulate.dressing import Dressed
 from catwalk.simulate.garment_cloth import seam_gaps
 from catwalk.simulate.metrics import BodySurface, penetration
 from catwalk.simulate.settings import PRESETS, Settings
+from catwalk.simulate.stepping import (
+    ORDER_TOLERANCE,
+    advance,
+    collide_and_floor,
+    collisions_for,
+    max_move,
+    never,
+    quiet,
+)
 
 
 def strain_of(model, x: np.ndarray) -> np.ndarray:
@@ -89,16 +89,13 @@ def blend_motion(body, motion: Motion, seconds: float) -> Motion:
     return Motion(motion.fps, np.array(rots), np.array(trs), loop=False)
 
 
-def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = None, *,
-         progress: Callable[[str, int, int], None] | None = None,
-         cancel: Callable[[], bool] | None = None, measure: bool = True) -> Walked:
-    """Play ``motion`` on ``body`` with the ``dressed`` garment following (module docstring).
-    ``measure``: also measure penetration with the independent check of
-    :mod:`catwalk.simulate.metrics` on every frame (costs ≈ 20 ms a frame)."""
-    settings = (settings or PRESETS["balanced"]).check()
-    progress = progress or _quiet
-    cancel = cancel or _never
-    t_body = time.perf_counter()
+def walk_frames(body, motion: Motion, settings: Settings, *,
+                progress: Callable[[str, int, int], None] | None = None,
+                cancel: Callable[[], bool] | None = None):
+    """The body's vertices and velocities (F, V, 3) float32 at every frame the walk steps
+    through: the rest pose the garment was dressed on, the blend into the motion, the motion;
+    and how many frames come before the motion's first (``n_pre``: not recorded)."""
+    progress = progress or quiet
     pre = blend_motion(body, motion, settings.blend_seconds)
     full = Motion(motion.fps, np.concatenate([pre.rotations, motion.rotations]),
                   np.concatenate([pre.translations, motion.translations]), loop=False)
@@ -107,8 +104,21 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     rest = body.vertices.astype(np.float32)
     verts = np.concatenate([rest[None], verts])
     vels = np.concatenate([np.zeros_like(rest)[None], vels])
+    return verts, vels, len(pre.rotations) + 1
+
+
+def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = None, *,
+         progress: Callable[[str, int, int], None] | None = None,
+         cancel: Callable[[], bool] | None = None, measure: bool = True) -> Walked:
+    """Play ``motion`` on ``body`` with the ``dressed`` garment following (module docstring).
+    ``measure``: also measure penetration with the independent check of
+    :mod:`catwalk.simulate.metrics` on every frame (costs ≈ 20 ms a frame)."""
+    settings = (settings or PRESETS["balanced"]).check()
+    progress = progress or quiet
+    cancel = cancel or never
+    t_body = time.perf_counter()
+    verts, vels, n_pre = walk_frames(body, motion, settings, progress=progress, cancel=cancel)
     t_body = time.perf_counter() - t_body
-    n_pre = len(pre.rotations) + 1           # rest pose + blend frames, not recorded
     frame_dt = 1.0 / motion.fps
     model, state = dressed.model, dressed.state.copy()
     friction = dressed.cloth.fabric.friction if settings.friction is None else settings.friction
@@ -170,7 +180,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
             ncols.append(n_col)
             if n_sharp:
                 sharp += n_sharp
-                sharp_mm = max(sharp_mm, _max_move(xs, state.positions))
+                sharp_mm = max(sharp_mm, max_move(xs, state.positions))
             out[rec] = xs[dressed.rep]
             # the cloth's own motion: kinetic energy relative to its centre of mass (the
             # walk's forward motion, the same in every frame, taken out)
