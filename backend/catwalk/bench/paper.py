@@ -17,7 +17,8 @@ import time
 
 PAPER = {"machine": "Pentium 4, 2.8 GHz (2007)", "points": 3372, "springs": 18623,
          "sewing_s": 2.264, "image_ms_per_frame": 405.0, "hybrid_ms_per_frame": 557.0}
-TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0, "sewing_s": 0.5}
+TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0, "sewing_s": 0.5,
+          "tryon_4s_warm_s": 2.0}
 
 
 def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float, int]:
@@ -95,7 +96,29 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
             "collisions_per_frame": s["collisions_per_frame"],
         }
     out["figure10"] = figure10_displacement()
+    out["tryon_4s_warm"] = warm_tryon(body, garment, size)
     return out
+
+
+def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
+    """A worker's try-on of the catalogue dress at the default settings (``balanced``, its own
+    h, the default collider) through the library — dress, walk ``seconds``, the .glb's bytes —
+    timed in a process that has run one already (numba's kernels loaded), with its parts."""
+    from catwalk.simulate.tryon import tryon
+
+    tryon(body, garment, size=size, seconds=0.5, measure=False)
+    t0 = time.perf_counter()
+    t = tryon(body, garment, size=size, seconds=seconds, measure=False)
+    t1 = time.perf_counter()
+    data = t.glb()
+    t2 = time.perf_counter()
+    dress_s = t.dressed.stats["dressing_s"]
+    return {"seconds": round(t2 - t0, 2), "walk_seconds": seconds, "dress_s": round(dress_s, 2),
+            # the rest of the try-on: skinning, the blend into the walk, the walk
+            "walk_s": round(t1 - t0 - dress_s, 2),
+            "export_s": round(t2 - t1, 2), "glb_mb": round(len(data) / 1e6, 2),
+            "points": t.dressed.stats["points"], "collider": t.metrics["collider"],
+            "frames": t.walked.stats["frames"]}
 
 
 def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
@@ -153,12 +176,24 @@ def format_table(r: dict) -> str:
         f"{'met' if r['sewing_warm_s'] <= TARGET['sewing_s'] else 'missed'}); hybrid ≤ "
         f"{TARGET['hybrid_ms_per_frame']} ms/frame with max penetration ≤ "
         f"{TARGET['max_penetration_mm']} mm",
+        _tryon_line(r),
         "figure 10 (capsule mannequin, forearm across the torso, panel 6 mm over it, one "
         "resolve): " + ", ".join(
             f"{k}: moved ≤ {v['max_displacement_mm']} mm, {v['points_moved_over_1cm']} of "
             f"{v['panel_points']} points > 1 cm" for k, v in r["figure10"].items()),
     ]
     return "\n".join(lines)
+
+
+def _tryon_line(r: dict) -> str:
+    t = r.get("tryon_4s_warm")
+    if not t:
+        return "4 s try-on in a worker: not run"
+    verdict = "met" if t["seconds"] <= TARGET["tryon_4s_warm_s"] else "missed"
+    return (f"{t['walk_seconds']:g} s try-on of the dress in a worker ({t['collider']} collider, "
+            f"{t['points']} points, {t['frames']} frames): {t['seconds']:.2f} s (dress "
+            f"{t['dress_s']:.2f} + walk {t['walk_s']:.2f} + .glb {t['export_s']:.2f}); target "
+            f"≤ {TARGET['tryon_4s_warm_s']} s: {verdict}")
 
 
 def main(args) -> int:

@@ -6,8 +6,19 @@ dressed garment following; both take a :class:`Settings` (presets ``fast``, ``ba
 ``accurate``), a ``progress(stage, i, total)`` callback and a ``cancel()`` check.
 """
 
+import importlib
+
 from catwalk.errors import Cancelled
-from catwalk.simulate.dressing import Dressed, DressingError, dress
-from catwalk.simulate.settings import PRESETS, Settings, preset
+
+# loaded when first asked for: a reader of the simulation's results (``simulate.frames``, the
+# file writers) does not load the dressing, the cloth solver and the collider with it
+_LAZY = {"Dressed": "dressing", "DressingError": "dressing", "dress": "dressing",
+         "PRESETS": "settings", "Settings": "settings", "preset": "settings"}
 
 __all__ = ["Cancelled", "Dressed", "DressingError", "PRESETS", "Settings", "dress", "preset"]
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        return getattr(importlib.import_module(f"catwalk.simulate.{_LAZY[name]}"), name)
+    raise AttributeError(f"module 'catwalk.simulate' has no attribute {name!r}")

@@ -145,7 +145,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
-        move = float(np.sqrt(np.max(np.sum((verts[f] - verts[f - 1]) ** 2, axis=1))))
+        move = max_move(verts[f], verts[f - 1])
         n_col = collisions_for(move, settings)
         clock = {}
         t0 = time.perf_counter()

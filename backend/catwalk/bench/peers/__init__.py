@@ -27,13 +27,14 @@ import subprocess
 import sys
 import tempfile
 import time
+import zipfile
 from pathlib import Path
 
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
 PEERS = ("blender", "newton")
-PEER_TIMEOUT_S = 1800
+PEER_TIMEOUT_S = 600
 BLENDER_QUALITY = 10
 BLENDER_COLLISION_QUALITY = 4
 
@@ -56,7 +57,8 @@ def _setup(peer: str) -> list[str]:
     """Install ``peer`` if missing; the command line that runs its runner script."""
     if peer == "blender":
         _install("blender_setup.sh")
-        return ["blender", "-b", "--factory-startup", "-t", "1", "--python",
+        return ["blender", "-b", "--factory-startup", "-t", "1", "--python-exit-code", "1",
+                "--python",
                 str(HERE / "blender_run.py"), "--"]
     venv = newton_venv()
     _install("newton_setup.sh", str(venv))
@@ -77,29 +79,70 @@ def _peer_runs(peers, opts: dict) -> list[tuple[str, str, list[str]]]:
     return runs
 
 
-def run_peer(peer: str, scene_path: Path, out_path: Path, args: list[str]) -> dict:
+def peer_timeout(frames: int) -> float:
+    """Seconds a peer may run: its set-up and compilation, and 30 s a frame (Newton took 6)."""
+    return PEER_TIMEOUT_S + 30.0 * frames
+
+
+def run_peer(peer: str, scene_path: Path, out_path: Path, args: list[str],
+             timeout: float = PEER_TIMEOUT_S) -> dict:
     """Run one peer on the scene file (``args``: the runner's own options): its positions,
-    frame seconds and info, or an error."""
+    frame seconds and info, or an error (a peer that cannot be installed, fails, runs past
+    ``timeout`` seconds or writes a result that cannot be read)."""
     try:
         cmd = _setup(peer)
     except OSError as exc:
         return {"error": f"could not install {peer}: {exc}"}
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1")
+    out_path.unlink(missing_ok=True)     # never read an earlier run's result as this one's
     t0 = time.perf_counter()
     try:
         p = subprocess.run(cmd + [str(scene_path), str(out_path)] + args,
-                           capture_output=True, text=True, timeout=PEER_TIMEOUT_S, env=env)
+                           capture_output=True, text=True, timeout=timeout, env=env)
     except subprocess.TimeoutExpired:
-        return {"error": f"{peer} ran past {PEER_TIMEOUT_S} s"}
+        return {"error": f"{peer} ran past {timeout:.0f} s"}
+    except OSError as exc:
+        return {"error": f"could not start {peer}: {exc}"}
     wall = time.perf_counter() - t0
     if not out_path.exists():
         tail = (p.stderr or p.stdout).strip().splitlines()[-5:]
         return {"error": f"{peer} wrote no result (exit {p.returncode}): " + " | ".join(tail)}
-    r = np.load(out_path)
-    info = json.loads(str(r["info"]))
+    try:
+        with np.load(out_path) as r:
+            info = json.loads(str(r["info"]))
+            positions, secs = r["positions"], r["frame_seconds"]
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+        return {"error": f"{peer}'s result {out_path.name} cannot be read: {exc}"}
     error = info.get("error") or "; ".join(info.get("errors", [])) or None
-    return {"positions": r["positions"], "frame_seconds": r["frame_seconds"], "info": info,
-            "wall_s": wall, "error": error}
+    if error is None and p.returncode:
+        error = f"exit {p.returncode}"
+    return {"positions": positions, "frame_seconds": secs, "info": info, "wall_s": wall,
+            "error": error}
+
+
+def _peer_row(scene, r: dict) -> dict:
+    """A peer's row: its ms per frame over the recorded frames it reached, and the measures
+    when it reached them all (``incomplete``: how many it did, when not)."""
+    from catwalk.bench.peers.scene import measure
+
+    row = {"settings": r.get("info", {})}
+    if r.get("error"):
+        row["error"] = r["error"]
+    if "positions" not in r:
+        return row
+    secs = np.asarray(r["frame_seconds"])[scene.n_pre - 1:]
+    pos = np.asarray(r["positions"])
+    pos = pos[scene.n_pre:] if pos.ndim == 3 else pos[:0]
+    if len(secs) == 0:
+        row.setdefault("error", "no recorded frame reached")
+        return row
+    row.update(ms_per_frame=round(1e3 * float(np.mean(secs)), 1),
+               wall_s=round(r["wall_s"], 1), positions=pos)
+    if len(pos) == len(scene.recorded):
+        row.update(measure(scene, pos))
+    else:
+        row["incomplete"] = len(pos)
+    return row
 
 
 def _catwalk_rows(scene, progress) -> dict:
@@ -121,7 +164,12 @@ def _catwalk_rows(scene, progress) -> dict:
         pos = welded(scene.dressed, w.positions)
         rows[f"catwalk-{mode}"] = {
             "ms_per_frame": round(ms["collider"] + ms["cloth"], 1), "positions": pos,
-            "settings": {"collider": mode, "preset": "balanced", "threads": 1,
+            "settings": {"collider": mode, "preset": scene.settings.name,
+                         "h_m": scene.settings.h, "threads": scene.settings.threads,
+                         # the walk's own strain figures are of its simulated state; the
+                         # row's of the positions it shows (off the body's sharp vertices)
+                         "state_max_strain": round(w.stats["max_strain"], 4),
+                         "state_p99_strain": round(w.stats["p99_strain"], 4),
                          "cloth_steps_per_frame": w.stats["cloth_steps_per_frame"],
                          "collisions_per_frame": w.stats["collisions_per_frame"]},
             **measure(scene, pos)}
@@ -133,7 +181,7 @@ def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, progress=No
     """Dress the scene, walk it with catwalk, run each peer on it, measure them all.
     ``keep``: a directory to keep the scene and the peers' results in."""
     from catwalk.bench import cpu_model
-    from catwalk.bench.peers.scene import measure, paper_scene, rms_mm
+    from catwalk.bench.peers.scene import paper_scene, rms_mm
 
     say = progress or (lambda *a: None)
     say("dressing the paper's scene")
@@ -146,18 +194,9 @@ def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, progress=No
         scene_path = scene.save(work / "scene.npz")
         for name, peer, args in _peer_runs(peers, opts or {}):
             say(f"{name}: simulating (its set-up first, if missing)")
-            r = run_peer(peer, scene_path, work / f"{name}.npz", args)
-            row = {"settings": r.get("info", {})}
-            if "positions" in r:
-                secs = r["frame_seconds"][scene.n_pre - 1:]
-                pos = r["positions"][scene.n_pre:]
-                row.update(ms_per_frame=round(1e3 * float(np.mean(secs)), 1),
-                           wall_s=round(r["wall_s"], 1), positions=pos)
-                row.update(measure(scene, pos) if len(pos) == len(scene.recorded) else
-                           {"finite": False})
-            if r.get("error"):
-                row["error"] = r["error"]
-            rows[name] = row
+            r = run_peer(peer, scene_path, work / f"{name}.npz", args,
+                         timeout=peer_timeout(len(scene.frames)))
+            rows[name] = _peer_row(scene, r)
     for row in rows.values():
         if "ms_per_frame" in row and "ms_per_frame" in base:
             row["ratio_to_catwalk"] = round(row["ms_per_frame"] / base["ms_per_frame"], 2)
@@ -170,7 +209,7 @@ def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, progress=No
                       "points": int(scene.dressed.model.n_points),
                       "triangles": int(len(scene.dressed.model.triangles)),
                       "body_triangles": int(len(scene.body.faces)),
-                      "frames": len(scene.recorded), "stepped_frames": len(scene.frames),
+                      "frames": len(scene.recorded), "steps": len(scene.frames) - 1,
                       "fps": float(scene.motion.fps),
                       "tau": float(scene.dressed.cloth.fabric.tau)},
             "runs": rows}
@@ -194,6 +233,8 @@ def format_table(r: dict) -> str:
         if row.get("finite"):
             pen = f"{row['max_penetration_mm']:.1f} / {row['p99_penetration_mm']:.1f}"
             strain = f"{row['max_strain']:.3f} / {row['p99_strain']:.3f}"
+        elif "incomplete" in row:
+            pen = strain = f"stopped after {row['incomplete']} of {s['frames']} frames"
         else:
             pen = strain = "non-finite"
         lines.append(f"| {name}{err} | {row['ms_per_frame']:.1f} | "

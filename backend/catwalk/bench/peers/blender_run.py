@@ -90,14 +90,14 @@ def _mean_edge(x0, tri) -> float:
     return float(np.mean(np.linalg.norm(x0[edges[:, 0]] - x0[edges[:, 1]], axis=1)))
 
 
-def _add_body(s, frames, distance):
-    """The body: its rest mesh, played from a PC2 cache of every frame, then collision."""
-    tmp = Path(tempfile.mkdtemp(prefix="catwalk-blender-"))
+def _add_body(s, frames, distance, pc2):
+    """The body: its rest mesh, played from a PC2 cache of every frame (written to ``pc2``),
+    then collision."""
     body = _mesh("body", frames[0].astype(np.float64), s["body_faces"].astype(np.int64))
-    _write_pc2(tmp / "body.pc2", frames)
+    _write_pc2(pc2, frames)
     cache = body.modifiers.new("walk", "MESH_CACHE")
     cache.cache_format = "PC2"
-    cache.filepath = str(tmp / "body.pc2")
+    cache.filepath = str(pc2)
     cache.frame_start = 1.0
     cache.interpolation = "LINEAR"
     body.modifiers.new("collision", "COLLISION")
@@ -151,7 +151,7 @@ def _play(sc, garment, x0, nf):
         ev.data.vertices.foreach_get("co", co)
         out[f - 1] = co.reshape(n, 3)
         if not np.all(np.isfinite(out[f - 1])):
-            return out, secs, f"non-finite positions at frame {f - 1}"
+            return out[:f], secs[:f - 1], f"non-finite positions at frame {f - 1}"
     return out, secs, None
 
 
@@ -172,9 +172,10 @@ def main():
     sc.render.fps = int(round(float(s["fps"])))
     sc.render.fps_base = sc.render.fps / float(s["fps"])
     sc.frame_start, sc.frame_end = 1, nf
-    col = _add_body(s, frames, distance)
-    garment, cloth = _add_garment(s, x0, tri, lbar, frame_s, opts, distance)
-    out, secs, error = _play(sc, garment, x0, nf)
+    with tempfile.TemporaryDirectory(prefix="catwalk-blender-") as tmp:
+        col = _add_body(s, frames, distance, Path(tmp) / "body.pc2")
+        garment, cloth = _add_garment(s, x0, tri, lbar, frame_s, opts, distance)
+        out, secs, error = _play(sc, garment, x0, nf)
     st, cs = cloth.settings, cloth.collision_settings
     info = {"peer": "blender", "version": bpy.app.version_string, "solver": "implicit (cloth)",
             "quality": st.quality, "collision_quality": cs.collision_quality,
