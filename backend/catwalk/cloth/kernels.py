@@ -11,6 +11,8 @@ of the plain loops to the last bit (see the comment above :func:`spring_runs` an
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numba
 import numpy as np
 
@@ -33,6 +35,17 @@ MAX_CORRECTION_SPEED = 2.0
 # A seam spring pulls as if its gap were at most this long (m): partners placed far apart
 # (a trouser inseam, a sleeve cap) approach at a bounded speed instead of being flung together.
 SEAM_REACH = 0.01
+
+# run_steps' inputs, grouped (numba takes named tuples of arrays and numbers)
+StepModel = namedtuple("StepModel", "mass w_int w_lim sa sb rest k c n_lim runs n_runs_lim "
+                       "compress gravity air")
+StepSeams = namedtuple("StepSeams", "seam_a seam_b seam_k seam_c")
+StepLimit = namedtuple("StepLimit", "method tau sweeps react share passes provot_iterations "
+                       "vmax")
+StepOrder = namedtuple("StepOrder", "ord_pts ord_ptr ord_oth ord_cross ord_lim ord_lim2 "
+                       "pt_cross adj_ptr adj_other")
+StepPlanes = namedtuple("StepPlanes", "plane_idx planes plane_t")
+StepWork = namedtuple("StepWork", "X V XP XPREV F R dirty")
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -635,20 +648,31 @@ def _first_nonfinite(X):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def run_steps(x, v, xprev, X, V, XP, XPREV, F, R, dirty, mass, w_int, w_lim, sa, sb, rest, k, c,
-              n_lim, runs, n_runs_lim, compress, gravity, air, seam_a, seam_b, seam_k, seam_c, dt,
-              nsteps, method, tau, ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2,
-              pt_cross, adj_ptr, adj_other, sweeps, react, share, passes, provot_iterations, vmax,
-              out_bad, plane_idx, planes, plane_t):
+def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, planes, work, out_bad):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
+
+    The inputs come grouped (named tuples, unpacked here): ``model`` (:data:`StepModel`: the
+    masses, the inverse masses for the integration ``w_int`` and the strain limit ``w_lim``,
+    the springs ``sa``/``sb``/``rest``/``k``/``c``, the ``n_lim`` limited ones, their ``runs``,
+    ``compress``, ``gravity``, ``air``), ``seams`` (:data:`StepSeams`), ``limit``
+    (:data:`StepLimit`: the ``method`` and its settings, ``vmax``), ``order``
+    (:data:`StepOrder`: the ordered pass's order and the points' adjacency), ``planes``
+    (:data:`StepPlanes`: contact planes kept after every step, :func:`apply_planes`;
+    ``plane_t``: the time since they were set at the call's start) and ``work``
+    (:data:`StepWork`).
 
     ``x``, ``v``, ``xprev`` are the caller's (n, 3) arrays, copied into the (3, n) work arrays
     ``X``, ``V``, ``XPREV`` and back; ``XP``, ``F``, ``R``, ``dirty`` are scratch. Returns a
     status (0 ok, 1 non-finite, 2 a speed above ``vmax``) and writes the step and the point
     where it happened to ``out_bad``; on a bad status it stops before moving positions.
-    ``plane_idx``/``planes``/``plane_t``: contact planes kept after every step
-    (:func:`apply_planes`; ``plane_t``: the time since they were set at the call's start).
     """
+    (mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, runs, n_runs_lim, compress, gravity,
+     air) = model
+    seam_a, seam_b, seam_k, seam_c = seams
+    method, tau, sweeps, react, share, passes, provot_iterations, vmax = limit
+    ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2, pt_cross, adj_ptr, adj_other = order
+    plane_idx, planes, plane_t = planes
+    X, V, XP, XPREV, F, R, dirty = work
     to_soa(x, X)
     to_soa(v, V)
     maxp = 1

@@ -89,6 +89,13 @@ class _Points:
         self.active_last = np.zeros(N_PARTS, bool)
         self.clear_frame = -1
 
+    def arrays(self):
+        """The per-point arrays as the object pass takes them."""
+        return K.ObjectPoints(self.cache_tri, self.cache_p, self.cache_c, self.clear,
+                              self.clear_rel, self.rkey, self.rec, self.pspeed, self.pstamp,
+                              self.last, self.pclk, self.csw, self.crel, self.cstamp, self.ct2,
+                              self.cp2, self.cc2, self.left)
+
 
 def face_parts(faces, parts) -> np.ndarray:
     """Each face's part: the label most of its vertices carry (its first vertex's on a tie)."""
@@ -636,20 +643,18 @@ class Collider:
         ck[4] = self._frame + alpha
         t = _clock()
 
+        now = K.ObjectTime(alpha, alpha_prev, self._frame, self._ref, ck, self._body_speed)
+        body = K.ObjectBody(self._vb, self._vp, self.faces, self.face_part, self._nb, h.links,
+                            h.tris, h.root, self._lf)
+        cfg = K.ObjectConfig(self.thickness, self.friction, self.contact_slack,
+                             self.search_radius, self.max_depth, self.skips.far_points,
+                             self.skips.reuse_closest, self.reuse_tol, self.skips.clearance,
+                             self.search_radius, self.second_surface)
+        arrays = pts.arrays()
+
         def points(start, stop, stack, reach, spd, rec2, stats):
-            K.object_pass(pos, vel, prev, alpha, alpha_prev, self._ref, self._vb, self._vp,
-                          self.faces, self.face_part, self._nb, h.links, h.tris,
-                          h.root, active, lo, hi, self.thickness, self.friction,
-                          self.contact_slack, self.search_radius, self.max_depth,
-                          self.skips.far_points, self.skips.reuse_closest, self.reuse_tol,
-                          self.skips.clearance, self._body_speed,
-                          pts.cache_tri, pts.cache_p, pts.cache_c, pts.clear,
-                          pts.clear_rel, held, stats, stack, reach,
-                          self._frame, pts.rkey, pts.rec, pts.pspeed, pts.pstamp,
-                          spd, pts.last, pts.pclk, ck, pts.csw, pts.crel,
-                          pts.cstamp, self.search_radius, pts.ct2, pts.cp2, pts.cc2,
-                          pts.left, self._lf, self.planes, only, self.second_surface, rec2,
-                          start, stop)
+            K.object_pass(pos, vel, prev, held, self.planes, only, active, lo, hi, now, body,
+                          cfg, arrays, K.Workspace(stack, reach, spd, rec2, stats), start, stop)
 
         self._split(points, n)
         self.timings.object_queries += _clock() - t

@@ -16,6 +16,7 @@ helpers of bvh.py needs a change here too, or the cached kernel keeps the old co
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numba
 import numpy as np
@@ -36,6 +37,16 @@ N_STATS = 11
 EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
 STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clearance_skips",
               "triangles_tested", "edge_fallbacks", "second_surface", "pinched")
+
+# the object pass's inputs, grouped (numba takes named tuples of arrays and numbers; the pass
+# unpacks them, see :func:`object_pass`)
+ObjectTime = namedtuple("ObjectTime", "alpha alpha_prev frame ref clock body_speed")
+ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf")
+ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radius max_depth "
+                          "skip_far use_cache reuse_tol use_clear cert_reach second")
+ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
+                          "pspeed pstamp last pclk csw crel cstamp ct2 cp2 cc2 left")
+Workspace = namedtuple("Workspace", "stack reach spd rec2 stats")
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -297,15 +308,22 @@ def body_motion(v0, v1, idx, ref):
 
 
 @numba.njit(cache=True, _nrt=False, nogil=True)
-def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part,
-                nb, links, tris, roots, part_active, cloth_lo, cloth_hi, thickness, friction,
-                slack, search_radius, max_depth, skip_far, use_cache, reuse_tol, use_clear,
-                body_speed, cache_tri, cache_p, cache_c, clear, clear_rel, held, stats, stack,
-                reach, frame, rkey, rec, pspeed, pstamp, spd, last, pclk, clock, csw, crel,
-                cstamp, cert_reach, ct2, cp2, cc2, left, lf, planes, only, second, rec2, start,
-                stop):
+def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth_hi, now, body,
+                cfg, pts, ws, start, stop):
     """Object-space collision of the cloth points ``start`` … ``stop`` − 1 against the active
     parts' hierarchies.
+
+    The inputs come grouped: ``now`` (:data:`ObjectTime`: the substep's ``alpha``, the last
+    call's ``alpha_prev``, the ``frame`` number, the moving frame's travel ``ref`` over this
+    frame, the collider's ``clock`` and the ``body_speed`` bound), ``body``
+    (:data:`ObjectBody`: the packed body ``vb``/``vp``, ``faces``, ``face_part``, the
+    hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``), ``cfg``
+    (:data:`ObjectConfig`: thickness, friction, contact slack, search radius, max depth, which
+    skips are on, ``reuse_tol``, ``cert_reach``, ``second``), ``pts`` (:data:`ObjectPoints`:
+    what is kept per point between calls, below) and ``ws`` (:data:`Workspace`: a thread's
+    ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``). ``held`` (P,) bool and
+    ``planes`` (P,8) are written for the points seen; ``part_active`` (parts,) bool and
+    ``cloth_lo``/``cloth_hi`` (the cloth's box) select the parts looked at.
 
     The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
     current frame; at time ``alpha`` a node's box is their blend. Clearances are measured in
@@ -367,6 +385,13 @@ def object_pass(pos, vel, prev, alpha, alpha_prev, ref, vb, vp, faces, face_part
     A point's work reads the body and writes only that point's entries, so disjoint ranges of
     points run at once on several threads (the GIL released), each with its own workspaces
     ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``."""
+    alpha, alpha_prev, frame, ref, clock, body_speed = now
+    vb, vp, faces, face_part, nb, links, tris, roots, lf = body
+    (thickness, friction, slack, search_radius, max_depth, skip_far, use_cache, reuse_tol,
+     use_clear, cert_reach, second) = cfg
+    (cache_tri, cache_p, cache_c, clear, clear_rel, rkey, rec, pspeed, pstamp, last, pclk, csw,
+     crel, cstamp, ct2, cp2, cc2, left) = pts
+    stack, reach, spd, rec2, stats = ws
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
