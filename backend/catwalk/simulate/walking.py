@@ -125,103 +125,134 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     collider = make_collider(settings.collider, body.faces, body.parts, friction=friction,
                              **settings.collider_options())
     collider.update(verts[0].astype(np.float64), vels[0].astype(np.float64))
-    m_med = float(np.median(dressed.cloth.model.mass))
-    w = settings.sew_omega
-    solver = Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
-                    safety=settings.step_safety,
-                    order_tolerance=ORDER_TOLERANCE,
-                    seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
-    seam_gap = 0.0
-    slowed = 0
-    sharp = 0
-    sharp_mm = 0.0
-    surface = BodySurface(body.faces, len(body.vertices)) if measure else None
+    solver = _solver(dressed, settings)
+    tally = _Tally(BodySurface(body.faces, len(body.vertices)) if measure else None)
     nf = motion.frames
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
     x0 = state.positions.copy()
-    t_col = t_cloth = 0.0
-    per_frame, pen_max, pen_p99, strains, strains99, ncols = [], [], [], [], [], []
-    kinetic = []
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
-        move = max_move(verts[f], verts[f - 1])
-        n_col = collisions_for(move, settings)
-        clock = {}
-        t0 = time.perf_counter()
-        collider.update(verts[f].astype(np.float64), vels[f].astype(np.float64),
-                        substeps=n_col)
-        tc = time.perf_counter() - t0
         try:
-            n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
-                            settings.max_collisions * 4, clock, cancel)
-            # the relaxation may have pulled free points into the body: settle the frame's
-            # final positions against the body as it is at the frame's time
-            t2 = time.perf_counter()
-            collide_and_floor(state, collider, x0, 1.0)
-            tc += time.perf_counter() - t2
+            n_col, tc, tcl = _step_frame(solver, model, state, collider, verts[f - 1], verts[f],
+                                         vels[f], frame_dt, x0, settings, tally, cancel)
         except ClothExplosionError as exc:
             raise ClothExplosionError(f"walk frame {f - n_pre} (t = {(f - n_pre) * frame_dt:.3f} "
                                       f"s): {exc}") from None
-        tc += clock.get("collider", 0.0)
-        tcl = clock.get("cloth", 0.0)
-        slowed += clock.get("slowed", 0)
         rec = f - n_pre
-        if rec >= 0:
-            # shown: the cloth off the body's sharp vertices (the state is left as it is);
-            # collider time
-            t2 = time.perf_counter()
-            xs = state.positions.copy()
-            n_sharp = collider.push_off_sharp(xs, model.triangles)
-            tc += time.perf_counter() - t2
-            t_col += tc
-            t_cloth += tcl
-            per_frame.append((tc + tcl) * 1e3)
-            ncols.append(n_col)
-            if n_sharp:
-                sharp += n_sharp
-                sharp_mm = max(sharp_mm, max_move(xs, state.positions))
-            out[rec] = xs[dressed.rep]
-            # the cloth's own motion: kinetic energy relative to its centre of mass (the
-            # walk's forward motion, the same in every frame, taken out)
-            v = state.velocities - (model.mass @ state.velocities) / model.mass.sum()
-            kinetic.append(0.5 * float(model.mass @ np.einsum("ij,ij->i", v, v)))
-            e = strain_of(model, state.positions)
-            strains.append(float(e.max()) if len(e) else 0.0)
-            strains99.append(float(np.percentile(e, 99)) if len(e) else 0.0)
-            if len(model.seam_a):
-                seam_gap = max(seam_gap, float(seam_gaps(model, state.positions).max()))
-            if surface is not None:   # of what is shown
-                pen = penetration(surface, verts[f], xs)
-                pen_max.append(float(pen.max()))
-                pen_p99.append(float(np.percentile(pen, 99)))
-        if rec >= 0:
-            progress("walking", rec + 1, nf)
-        else:
+        if rec < 0:
             progress("blending", f, n_pre - 1)
-    times = np.arange(nf) / motion.fps
-    nrec = max(1, nf)
+            continue
+        # shown: the cloth off the body's sharp vertices (the state is left as it is);
+        # collider time
+        t2 = time.perf_counter()
+        xs = state.positions.copy()
+        n_sharp = collider.push_off_sharp(xs, model.triangles)
+        tally.t_col += tc + time.perf_counter() - t2
+        tally.t_cloth += tcl
+        tally.ncols.append(n_col)
+        out[rec] = xs[dressed.rep]
+        tally.frame(model, state, xs, verts[f], n_sharp)
+        progress("walking", rec + 1, nf)
     steps_per_frame = int(np.ceil(frame_dt / solver.dt_max))
     stats = {
         "frames": int(nf), "fps": float(motion.fps), "blend_frames": int(n_pre - 1),
         "points": int(model.n_points), "springs": int(model.n_springs),
         "body_triangles": int(len(body.faces)), "collider": settings.collider,
         "cloth_steps_per_frame": steps_per_frame,
-        "collisions_per_frame": {"min": int(min(ncols)), "max": int(max(ncols)),
-                                 "mean": float(np.mean(ncols))} if ncols else None,
-        "ms_per_frame": {"body": t_body * 1e3 / len(verts), "collider": t_col * 1e3 / nrec,
-                         "cloth": t_cloth * 1e3 / nrec,
-                         "total": (t_col + t_cloth) * 1e3 / nrec + t_body * 1e3 / len(verts)},
-        "max_strain": float(max(strains)) if strains else 0.0,
-        "p99_strain": float(max(strains99)) if strains99 else 0.0,
-        "max_seam_gap_mm": 1e3 * seam_gap, "open_seam_pairs": int(len(model.seam_a)),
-        "exploded": False, "nan": False,   # either aborts the walk with ClothExplosionError
-        "slowed_points": int(slowed), "sharp_pushes": int(sharp),
-        "sharp_push_max_mm": 1e3 * sharp_mm,
-        "internal_kinetic_j_per_frame": [round(k, 7) for k in kinetic],
+        **tally.stats(model, nf, t_body * 1e3 / len(verts)),
     }
-    if surface is not None and pen_max:
-        stats["max_penetration_mm"] = 1e3 * max(pen_max)
-        stats["p99_penetration_mm"] = 1e3 * float(np.percentile(pen_p99, 99))
-        stats["penetration_mm_per_frame"] = [round(1e3 * p, 2) for p in pen_max]
-    return Walked(times, out, stats)
+    return Walked(np.arange(nf) / motion.fps, out, stats)
+
+
+def _solver(dressed: Dressed, settings: Settings) -> Solver:
+    """The walk's cloth solver: the settings' strain limit and step, held points free in the
+    limit, seam springs for any pair left open."""
+    model = dressed.model
+    m_med = float(np.median(dressed.cloth.model.mass))
+    w = settings.sew_omega
+    return Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
+                  safety=settings.step_safety, order_tolerance=ORDER_TOLERANCE,
+                  seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
+
+
+def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_dt, x0,
+                settings: Settings, tally, cancel) -> tuple[int, float, float]:
+    """One frame: the collider given the body's next pose, the cloth advanced over the frame
+    with its resolves, then one resolve at the frame's time. Returns the resolves, the
+    collider's seconds and the cloth's."""
+    n_col = collisions_for(max_move(v_next, v_prev), settings)
+    clock = {}
+    t0 = time.perf_counter()
+    collider.update(v_next.astype(np.float64), vel_next.astype(np.float64), substeps=n_col)
+    tc = time.perf_counter() - t0
+    n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
+                    settings.max_collisions * 4, clock, cancel)
+    # the relaxation may have pulled free points into the body: settle the frame's final
+    # positions against the body as it is at the frame's time
+    t2 = time.perf_counter()
+    collide_and_floor(state, collider, x0, 1.0)
+    tc += time.perf_counter() - t2 + clock.get("collider", 0.0)
+    tally.slowed += clock.get("slowed", 0)
+    return n_col, tc, clock.get("cloth", 0.0)
+
+
+@dataclass
+class _Tally:
+    """What the walk keeps of its recorded frames: their costs and errors."""
+    surface: BodySurface | None
+    t_col: float = 0.0
+    t_cloth: float = 0.0
+    slowed: int = 0
+    sharp: int = 0
+    sharp_mm: float = 0.0
+    seam_gap: float = 0.0
+    ncols: list = field(default_factory=list)
+    strains: list = field(default_factory=list)
+    strains99: list = field(default_factory=list)
+    kinetic: list = field(default_factory=list)
+    pen_max: list = field(default_factory=list)
+    pen_p99: list = field(default_factory=list)
+
+    def frame(self, model, state, xs, body_vertices, n_sharp: int) -> None:
+        """A recorded frame's errors: the simulated ``state``, the shown ``xs``."""
+        if n_sharp:
+            self.sharp += n_sharp
+            self.sharp_mm = max(self.sharp_mm, max_move(xs, state.positions))
+        # the cloth's own motion: kinetic energy relative to its centre of mass (the walk's
+        # forward motion, the same in every frame, taken out)
+        v = state.velocities - (model.mass @ state.velocities) / model.mass.sum()
+        self.kinetic.append(0.5 * float(model.mass @ np.einsum("ij,ij->i", v, v)))
+        e = strain_of(model, state.positions)
+        self.strains.append(float(e.max()) if len(e) else 0.0)
+        self.strains99.append(float(np.percentile(e, 99)) if len(e) else 0.0)
+        if len(model.seam_a):
+            self.seam_gap = max(self.seam_gap, float(seam_gaps(model, state.positions).max()))
+        if self.surface is not None:   # of what is shown
+            pen = penetration(self.surface, body_vertices, xs)
+            self.pen_max.append(float(pen.max()))
+            self.pen_p99.append(float(np.percentile(pen, 99)))
+
+    def stats(self, model, frames: int, body_ms: float) -> dict:
+        """The walk's statistics of its costs and errors (docs/tryon.md, metrics.json)."""
+        nrec = max(1, frames)
+        ncols = self.ncols
+        out = {
+            "collisions_per_frame": {"min": int(min(ncols)), "max": int(max(ncols)),
+                                     "mean": float(np.mean(ncols))} if ncols else None,
+            "ms_per_frame": {"body": body_ms, "collider": self.t_col * 1e3 / nrec,
+                             "cloth": self.t_cloth * 1e3 / nrec,
+                             "total": (self.t_col + self.t_cloth) * 1e3 / nrec + body_ms},
+            "max_strain": float(max(self.strains)) if self.strains else 0.0,
+            "p99_strain": float(max(self.strains99)) if self.strains99 else 0.0,
+            "max_seam_gap_mm": 1e3 * self.seam_gap, "open_seam_pairs": int(len(model.seam_a)),
+            "exploded": False, "nan": False,   # either aborts the walk with ClothExplosionError
+            "slowed_points": int(self.slowed), "sharp_pushes": int(self.sharp),
+            "sharp_push_max_mm": 1e3 * self.sharp_mm,
+            "internal_kinetic_j_per_frame": [round(k, 7) for k in self.kinetic],
+        }
+        if self.surface is not None and self.pen_max:
+            out["max_penetration_mm"] = 1e3 * max(self.pen_max)
+            out["p99_penetration_mm"] = 1e3 * float(np.percentile(self.pen_p99, 99))
+            out["penetration_mm_per_frame"] = [round(1e3 * p, 2) for p in self.pen_max]
+        return out
