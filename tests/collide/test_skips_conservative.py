@@ -14,7 +14,7 @@ from catwalk.collide import Skips, make_collider
 from catwalk.collide.shapes import merge, sphere
 
 ALL_ON = Skips(True, True, True, True, True)
-ALL_OFF = Skips(False, False, False, False, False)
+ALL_OFF = Skips.off()
 N_AROUND = 64
 
 

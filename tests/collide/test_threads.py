@@ -50,20 +50,23 @@ def test_a_failing_slice_raises_after_every_thread_stopped_and_the_next_call_wor
     c = make_collider("object", body.faces, body.parts, threads=3)
     seen = []
 
-    def points(start, stop, *ws):
+    def points(start, stop, stack, reach, spd, rec2, stats):
         seen.append((start, stop))
         if start == 0:
             raise RuntimeError("slice failed")
-        ws[4][0] += stop - start   # a counter, summed into the collider's
+        stats[0] += stop - start   # a counter, summed into the collider's
 
     with pytest.raises(RuntimeError, match="slice failed"):
         c._split(points, 1200)
+    # raised only once every thread had stopped: all 12 slices taken, the 11 that did not
+    # fail counted
+    assert len(seen) == 12 and c.stats[0] == 1100
     seen.clear()
     c.stats[:] = 0
 
-    def counts(start, stop, *ws):
+    def counts(start, stop, stack, reach, spd, rec2, stats):
         seen.append((start, stop))
-        ws[4][0] += stop - start
+        stats[0] += stop - start
 
     c._split(counts, 1200)
     assert sorted(seen)[0][0] == 0 and sorted(seen)[-1][1] == 1200 and len(seen) == 12
@@ -74,8 +77,8 @@ def test_the_settings_reach_the_collider():
     from catwalk.simulate import preset
 
     opts = preset("balanced").with_(threads=2, skips=False).collider_options()
-    c = make_collider("hybrid", mannequin_walk(n_frames=1, resolution=0.5).faces,
-                      mannequin_walk(n_frames=1, resolution=0.5).parts, **opts)
+    body = mannequin_walk(n_frames=1, resolution=0.5)
+    c = make_collider("hybrid", body.faces, body.parts, **opts)
     assert c.threads == 2 and not any(vars(c.skips).values())
     with pytest.raises(InputError, match="skips must be true or false"):
         preset("balanced").with_(skips="no")

@@ -22,13 +22,13 @@ def scene(dressable_body):
     from catwalk.garment.catalogue import catalogue_files
     from catwalk.motion.gait import walk_motion
     from catwalk.simulate import dress, preset
-    from catwalk.simulate.walking import walk_frames
+    from catwalk.simulate.walking import walk_body_frames
 
     skirt = load_garment(next(p for p in catalogue_files() if p.stem == "pencil-skirt"))
     settings = preset("fast").with_(settle_seconds=0.5)
     dressed = dress(dressable_body, skirt, "M", settings=settings)
     motion = walk_motion(dressable_body, 0.5, style="catwalk")
-    frames, _, n_pre = walk_frames(dressable_body, motion, settings)
+    frames, _, n_pre = walk_body_frames(dressable_body, motion, settings)
     return PeerScene(dressable_body, dressed, motion, settings, frames, n_pre, settings.h)
 
 

@@ -29,3 +29,18 @@ def progress_lines(args):
     if args.json or args.quiet:
         return None
     return lambda what: print(what, flush=True)
+
+
+def add_walk_seconds(parser, default: float = 2.0) -> None:
+    """``--seconds``: how long the benchmark's scene walks (checked by
+    :func:`check_walk_seconds`)."""
+    parser.add_argument("--seconds", type=float, default=default,
+                        help=f"walk length (default {default:g}; 0.5–10)")
+
+
+def check_walk_seconds(seconds: float) -> None:
+    """Refuse a walk length outside 0.5–10 s (:class:`~catwalk.errors.InputError`)."""
+    from catwalk.errors import InputError
+
+    if not 0.5 <= seconds <= 10:
+        raise InputError(f"--seconds must be within 0.5–10, got {seconds}")

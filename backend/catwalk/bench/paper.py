@@ -44,21 +44,28 @@ def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float,
     return round(best[0], 5), best[1]
 
 
+def paper_inputs(seconds: float):
+    """The paper's scene's inputs: the catalogue dress, the female base body, its catwalk walk
+    of ``seconds`` (what ``bench paper``, ``bench pareto`` and ``bench peers`` all simulate)."""
+    from catwalk.body.rig import measured_base_body
+    from catwalk.exchange.garment_json import load_garment
+    from catwalk.garment.catalogue import catalogue_files
+    from catwalk.motion.gait import walk_motion
+
+    garment = load_garment(next(p for p in catalogue_files() if p.stem == "dress"))
+    body = measured_base_body(0.0)
+    return garment, body, walk_motion(body, seconds, style="catwalk")
+
+
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
         progress=None, threads: int = 2) -> dict:
     from catwalk.bench import cpu_model
     from catwalk.bench.collide import figure10_displacement
-    from catwalk.body.rig import measured_base_body
     from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
-    from catwalk.motion.gait import walk_motion
     from catwalk.simulate import dress, preset
     from catwalk.simulate.walking import walk
 
-    path = next(p for p in catalogue_files() if p.stem == "dress")
-    garment = load_garment(path)
-    body = measured_base_body(0.0)
+    garment, body, motion = paper_inputs(seconds)
     h, _ = choose_h(garment, body, size)
     settings = preset("balanced").with_(h=h)
     t0 = time.perf_counter()
@@ -68,9 +75,8 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
     t0 = time.perf_counter()
     dress(body, garment, size, settings=settings)
     sewing_warm_s = time.perf_counter() - t0
-    motion = walk_motion(body, seconds, style="catwalk")
     out = {
-        "machine": {"cpu": cpu_model(), "threads": 1},
+        "machine": {"cpu": cpu_model(), "threads": 1, "walks_also_on_threads": threads},
         "garment": garment.name, "size": size, "h_m": h,
         "points": dressed.stats["points"], "springs": dressed.stats["springs"],
         "sewing_s": round(sewing_s, 3), "sewing_warm_s": round(sewing_warm_s, 3),
@@ -103,10 +109,10 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
 def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
     """A worker's try-on of the catalogue dress at the default settings (``balanced``, its own
     h, the default collider) through the library — dress, walk ``seconds``, the .glb's bytes —
-    timed in a process that has run one already (numba's kernels loaded), with its parts."""
+    timed with its parts. The caller has dressed and walked in this process already (numba's
+    kernels loaded, as in a worker): :func:`run` has."""
     from catwalk.simulate.tryon import tryon
 
-    tryon(body, garment, size=size, seconds=0.5, measure=False)
     t0 = time.perf_counter()
     t = tryon(body, garment, size=size, seconds=seconds, measure=False)
     t1 = time.perf_counter()
@@ -118,7 +124,9 @@ def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
             "walk_s": round(t1 - t0 - dress_s, 2),
             "export_s": round(t2 - t1, 2), "glb_mb": round(len(data) / 1e6, 2),
             "points": t.dressed.stats["points"], "collider": t.metrics["collider"],
-            "frames": t.walked.stats["frames"]}
+            "frames": t.walked.stats["frames"],
+            "walk_ms_per_frame": {k: round(v, 1)
+                                  for k, v in t.walked.stats["ms_per_frame"].items()}}
 
 
 def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
@@ -196,12 +204,31 @@ def _tryon_line(r: dict) -> str:
             f"≤ {TARGET['tryon_4s_warm_s']} s: {verdict}")
 
 
+def register(bench) -> None:
+    from catwalk.bench import add_output_flags, add_walk_seconds
+
+    p = bench.add_parser(
+        "paper", help="the seed's table side by side: sewing the dress, walking it with the "
+        "image-space and hybrid colliders (with penetration and strain)",
+        description="The paper's scene (the dress at ≈3,372 points on a walking body): sewing "
+        "time and ms per 30-fps frame per collider mode, each with max/p99 penetration and "
+        "max strain; and the figure-10 failure of image space.")
+    add_walk_seconds(p)
+    p.add_argument("--modes", nargs="+", default=["image", "hybrid", "object"],
+                   choices=["image", "hybrid", "object"], help="collider modes to walk")
+    p.add_argument("--threads", type=int, default=2,
+                   help="also walk each mode with the collider's object and image passes "
+                   "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
+    add_output_flags(p)
+    p.set_defaults(func=main)
+
+
 def main(args) -> int:
+    from catwalk.bench import check_walk_seconds
     from catwalk.errors import InputError
     from catwalk.simulate.commands import ProgressBar
 
-    if not 0.5 <= args.seconds <= 10:
-        raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
+    check_walk_seconds(args.seconds)
     if not 1 <= args.threads <= 64:
         raise InputError(f"--threads must be within 1–64, got {args.threads}")
     bar = ProgressBar(quiet=args.json or args.quiet)

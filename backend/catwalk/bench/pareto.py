@@ -1,7 +1,8 @@
 """``catwalk bench pareto``: what each setting buys — run time against error.
 
-One scene, the paper's (``catwalk bench paper``: the catalogue dress, size M, on the female
-base body, a 2 s catwalk walk), is simulated with each setting of a list, and every run is
+One scene, the paper's inputs (:func:`catwalk.bench.paper.paper_inputs`: the catalogue dress,
+size M, on the female base body, a 2 s catwalk walk; each run at its own settings' h, not at
+``bench paper``'s 3,378-point one), is simulated with each setting of a list, and every run is
 compared with a **reference run** of the same scene: the cloth's time step 4× finer
 (``step_safety`` ÷ 4), 4× the collision resolves a frame (``max_move`` ÷ 4,
 ``min_collisions`` × 4), the object-space collider, every collider skip off, at the finest
@@ -104,14 +105,9 @@ class _Scene:
     """The paper's scene: each run dresses the garment with its settings and walks it."""
 
     def __init__(self, seconds: float):
-        from catwalk.body.rig import measured_base_body
-        from catwalk.exchange.garment_json import load_garment
-        from catwalk.garment.catalogue import catalogue_files
-        from catwalk.motion.gait import walk_motion
+        from catwalk.bench.paper import paper_inputs
 
-        self.garment = load_garment(next(p for p in catalogue_files() if p.stem == "dress"))
-        self.body = measured_base_body(0.0)
-        self.motion = walk_motion(self.body, seconds, style="catwalk")
+        self.garment, self.body, self.motion = paper_inputs(seconds)
 
     def dress(self, settings):
         from catwalk.simulate import dress
@@ -273,7 +269,7 @@ def plot(r: dict, path) -> None:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags
+    from catwalk.bench import add_output_flags, add_walk_seconds
 
     p = bench.add_parser(
         "pareto", help="run time against error: each setting of the paper's scene against a "
@@ -281,7 +277,7 @@ def register(bench) -> None:
         description="The paper's scene simulated with each preset and with balanced changed "
         "one setting at a time (or every combination, --grid); each run's ms per frame "
         "against its RMS distance to a reference run, penetration, strain and seam gap.")
-    p.add_argument("--seconds", type=float, default=2.0, help="walk length (default 2)")
+    add_walk_seconds(p)
     p.add_argument("--grid", action="store_true",
                    help="every combination of collider × resolves × h × skips")
     p.add_argument("--png", help="also plot time against error into this PNG")
@@ -290,11 +286,9 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import progress_lines
-    from catwalk.errors import InputError
+    from catwalk.bench import check_walk_seconds, progress_lines
 
-    if not 0.5 <= args.seconds <= 10:
-        raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
+    check_walk_seconds(args.seconds)
     r = run(args.seconds, args.grid,
             progress=progress_lines(args))
     if args.png:

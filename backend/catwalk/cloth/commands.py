@@ -1,4 +1,4 @@
-"""Cloth commands: ``catwalk bench cloth``, ``catwalk bench drape``, ``catwalk bench stress``."""
+"""Cloth commands: ``catwalk bench cloth``, ``catwalk bench drape``."""
 
 from __future__ import annotations
 
@@ -6,8 +6,6 @@ from __future__ import annotations
 def register(top, groups) -> None:
     from catwalk.bench import cloth as bench_cloth
     from catwalk.bench import drape as bench_drape
-    from catwalk.bench import stress as bench_stress
 
     bench_cloth.register(groups["bench"])
     bench_drape.register(groups["bench"])
-    bench_stress.register(groups["bench"])

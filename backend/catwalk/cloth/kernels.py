@@ -648,7 +648,7 @@ def _first_nonfinite(X):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, planes, work, out_bad):
+def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work, out_bad):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
 
     The inputs come grouped (named tuples, unpacked here): ``model`` (:data:`StepModel`: the
@@ -656,7 +656,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, planes, work,
     the springs ``sa``/``sb``/``rest``/``k``/``c``, the ``n_lim`` limited ones, their ``runs``,
     ``compress``, ``gravity``, ``air``), ``seams`` (:data:`StepSeams`), ``limit``
     (:data:`StepLimit`: the ``method`` and its settings, ``vmax``), ``order``
-    (:data:`StepOrder`: the ordered pass's order and the points' adjacency), ``planes``
+    (:data:`StepOrder`: the ordered pass's order and the points' adjacency), ``contact``
     (:data:`StepPlanes`: contact planes kept after every step, :func:`apply_planes`;
     ``plane_t``: the time since they were set at the call's start) and ``work``
     (:data:`StepWork`).
@@ -671,7 +671,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, planes, work,
     seam_a, seam_b, seam_k, seam_c = seams
     method, tau, sweeps, react, share, passes, provot_iterations, vmax = limit
     ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2, pt_cross, adj_ptr, adj_other = order
-    plane_idx, planes, plane_t = planes
+    plane_idx, planes, plane_t = contact
     X, V, XP, XPREV, F, R, dirty = work
     to_soa(x, X)
     to_soa(v, V)

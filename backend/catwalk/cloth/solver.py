@@ -321,7 +321,7 @@ class Solver:
         op, optr, _, ooth = self._order[:4]
         ocross = self._order[5]
         w = self._work
-        springs = K.StepModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
+        step_model = K.StepModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
                               model.spring_rest, model.spring_k, model.spring_c,
                               model.n_limited, self._runs, self._n_runs_lim,
                               model.fabric.compression, self.gravity,
@@ -332,7 +332,7 @@ class Solver:
         order = K.StepOrder(op, optr, ooth, ocross, self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
-        return K.run_steps(state.positions, state.velocities, self._xprev, h, nsteps, springs,
+        return K.run_steps(state.positions, state.velocities, self._xprev, h, nsteps, step_model,
                            seams, limit, order, K.StepPlanes(*self._planes(state)), work,
                            self._bad)
 

@@ -41,6 +41,12 @@ class Skips:
     reuse_closest: bool = True     # closest triangle reused while a point barely moved
     clearance: bool = True         # a point known to be far skips work until it could touch
 
+    @classmethod
+    def off(cls) -> Skips:
+        """Every shortcut off (the exhaustive reference)."""
+        return cls(unreached_parts=False, still_torso=False, far_points=False,
+                   reuse_closest=False, clearance=False)
+
 
 @dataclass
 class Timings:
@@ -95,6 +101,15 @@ class _Points:
                               self.clear_rel, self.rkey, self.rec, self.pspeed, self.pstamp,
                               self.last, self.pclk, self.csw, self.crel, self.cstamp, self.ct2,
                               self.cp2, self.cc2, self.left)
+
+
+def _workspace(stats: np.ndarray | None = None) -> K.Workspace:
+    """A thread's scratch for the object and image passes (the kernels never allocate): the
+    hierarchy walk's stack, the part reach, two scratch arrays, and its counters (``stats``,
+    or new ones)."""
+    return K.Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
+                       np.zeros((1, 54), np.float32),
+                       np.zeros(K.N_STATS, np.int64) if stats is None else stats)
 
 
 def face_parts(faces, parts) -> np.ndarray:
@@ -235,7 +250,6 @@ class Collider:
         # a point near its closest part may be inside another one (cloth pinched between a
         # hand and the thigh, an arm and the torso): look for it (kernels._second_surface)
         self.second_surface = bool(second_surface)
-        self._rec2 = np.zeros((1, 54), np.float32)
         self.skips = skips or Skips()
         in_maps = {"image": range(5), "hybrid": [0], "object": []}[mode]
         in_tree = {"image": [], "hybrid": [1, 2, 3, 4], "object": range(5)}[mode]
@@ -259,8 +273,6 @@ class Collider:
         self._part_vidx = {p: np.unique(self.faces[f]) for p, f in self._part_faces.items()}
         self._tree_vidx = np.unique(self.faces[np.nonzero(self.hier_parts[self.face_part])[0]])
         # workspaces for the kernels (they run without numba's runtime, so never allocate)
-        self._stack = np.empty(B.STACK_SIZE, np.int64)
-        self._reach_work = np.zeros(N_PARTS, bool)
         self._vb = np.zeros((self.n_vertices, 18), np.float32)
         self._vp = np.zeros((self.n_vertices, 6), np.float32)
         self._ref = np.zeros(3)      # the body's mean displacement over the frame
@@ -274,14 +286,11 @@ class Collider:
         self._nb = None              # node boxes at the previous and the current frame
         self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
         self._img_n = -1
-        self._spd = np.zeros(2)
         # with threads > 1 the object and image passes run over slices of the points at
         # once, each thread with its own workspaces (kernels.object_pass, image_pass)
         self.threads = int(threads)
         self._pool = None
-        self._thread_ws = [(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool),
-                            np.zeros(2), np.zeros((1, 54), np.float32),
-                            np.zeros(K.N_STATS, np.int64)) for _ in range(self.threads - 1)]
+        self._thread_ws = [_workspace() for _ in range(self.threads - 1)]
         self.tree = None  # built from the first frame's pose
         self._refit_done = np.zeros(N_PARTS, bool)
         self._maps_ready = False
@@ -298,6 +307,7 @@ class Collider:
         self._near_limb = np.zeros(0, bool)  # hybrid: the points a limb held at the last resolve
         self._rest = np.zeros(0, bool)   # and the others
         self.stats = np.zeros(K.N_STATS, np.int64)
+        self._ws = _workspace(self.stats)   # the calling thread's
         # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
         # body's velocity, friction; normal 0 for points not held), see kernels.record_plane
         self.planes = np.zeros((0, PLANE_COLUMNS))
@@ -656,18 +666,19 @@ class Collider:
             K.object_pass(pos, vel, prev, held, self.planes, only, active, lo, hi, now, body,
                           cfg, arrays, K.Workspace(stack, reach, spd, rec2, stats), start, stop)
 
-        self._split(points, n)
+        self._split(points, n, int(only.sum()) if len(only) else n)
         self.timings.object_queries += _clock() - t
         return pts
 
-    def _split(self, points, n):
-        """``points(start, stop, stack, reach, spd, rec2, stats)`` over all ``n`` points: at
-        once on one thread, or over slices on ``threads`` threads — 4 slices a thread, taken
+    def _split(self, points, n, seen: int | None = None):
+        """``points(start, stop, stack, reach, spd, rec2, stats)`` over all ``n`` points (of
+        which ``seen`` are looked at, default all): at once on one thread (also when ``seen``
+        is too few to share), or over slices on ``threads`` threads — 4 slices a thread, taken
         as threads come free (the cost per point varies along the garment), the calling
         thread one of them with the collider's own workspaces, each other with its own (its
         counters added to :attr:`stats` after)."""
-        own = (self._stack, self._reach_work, self._spd, self._rec2, self.stats)
-        if self.threads == 1 or n < 64 * self.threads:
+        own = self._ws
+        if self.threads == 1 or (n if seen is None else seen) < 64 * self.threads:
             points(0, n, *own)
             return
         if self._pool is None:
@@ -696,8 +707,8 @@ class Collider:
             # points after it, and their counters are taken even from a failed call
             wait(futures)
             for ws in self._thread_ws:
-                self.stats += ws[4]
-                ws[4][:] = 0
+                self.stats += ws.stats
+                ws.stats[:] = 0
         for f in futures:
             f.result()   # a helper's error, raised here
 

@@ -180,12 +180,6 @@ def _common(p, output_help: str) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
-def _bench_paper(args) -> int:
-    from catwalk.bench.paper import main
-
-    return main(args)
-
-
 def _bench_dress(args) -> int:
     from catwalk.bench.dress import main
 
@@ -209,21 +203,9 @@ def register(top, groups) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_dress)
 
-    p = groups["bench"].add_parser(
-        "paper", help="the seed's table side by side: sewing the dress, walking it with the "
-        "image-space and hybrid colliders (with penetration and strain)",
-        description="The paper's scene (the dress at ≈3,372 points on a walking body): sewing "
-        "time and ms per 30-fps frame per collider mode, each with max/p99 penetration and "
-        "max strain; and the figure-10 failure of image space.")
-    p.add_argument("--seconds", type=float, default=2.0, help="walk length (default 2)")
-    p.add_argument("--modes", nargs="+", default=["image", "hybrid", "object"],
-                   choices=["image", "hybrid", "object"], help="collider modes to walk")
-    p.add_argument("--threads", type=int, default=2,
-                   help="also walk each mode with the collider's object and image passes "
-                   "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
-    p.add_argument("--quiet", action="store_true", help="no progress")
-    p.add_argument("--json", action="store_true", help="print JSON")
-    p.set_defaults(func=_bench_paper)
+    from catwalk.bench import paper as bench_paper
+
+    bench_paper.register(groups["bench"])
 
     from catwalk.bench import pareto as bench_pareto
 
@@ -232,6 +214,10 @@ def register(top, groups) -> None:
     from catwalk.bench import peers as bench_peers
 
     bench_peers.register(groups["bench"])
+
+    from catwalk.bench import stress as bench_stress
+
+    bench_stress.register(groups["bench"])
 
     p = top.add_parser("dress", help="sew a garment onto a body and settle it (static .glb)",
                        description="Place the garment's panels round the body, sew, weld and "

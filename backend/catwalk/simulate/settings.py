@@ -99,10 +99,8 @@ class Settings:
         fix (friction is the caller's: the fabric's, or none while sewing)."""
         from catwalk.collide import Skips
 
-        off = Skips(unreached_parts=False, still_torso=False, far_points=False,
-                    reuse_closest=False, clearance=False)
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
-                "skips": None if self.skips else off, "threads": self.threads}
+                "skips": None if self.skips else Skips.off(), "threads": self.threads}
 
     def with_(self, **changes) -> Settings:
         """A copy with some settings changed (None values are ignored)."""

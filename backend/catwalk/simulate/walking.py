@@ -89,7 +89,7 @@ def blend_motion(body, motion: Motion, seconds: float) -> Motion:
     return Motion(motion.fps, np.array(rots), np.array(trs), loop=False)
 
 
-def walk_frames(body, motion: Motion, settings: Settings, *,
+def walk_body_frames(body, motion: Motion, settings: Settings, *,
                 progress: Callable[[str, int, int], None] | None = None,
                 cancel: Callable[[], bool] | None = None):
     """The body's vertices and velocities (F, V, 3) float32 at every frame the walk steps
@@ -117,7 +117,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     progress = progress or quiet
     cancel = cancel or never
     t_body = time.perf_counter()
-    verts, vels, n_pre = walk_frames(body, motion, settings, progress=progress, cancel=cancel)
+    verts, vels, n_pre = walk_body_frames(body, motion, settings, progress=progress, cancel=cancel)
     t_body = time.perf_counter() - t_body
     frame_dt = 1.0 / motion.fps
     model, state = dressed.model, dressed.state.copy()

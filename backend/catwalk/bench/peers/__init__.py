@@ -244,7 +244,7 @@ def format_table(r: dict) -> str:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags
+    from catwalk.bench import add_output_flags, add_walk_seconds
 
     p = bench.add_parser(
         "peers", help="the paper's scene simulated by Blender's cloth and by Newton beside "
@@ -252,7 +252,7 @@ def register(bench) -> None:
         description="Dress the paper's scene once; walk it with catwalk and have each peer "
         "(installed on first use, not by make test) simulate the same garment on the same "
         "walking body; time and measure every run the same way.")
-    p.add_argument("--seconds", type=float, default=2.0, help="walk length (default 2)")
+    add_walk_seconds(p)
     p.add_argument("--peers", nargs="+", default=list(PEERS), choices=list(PEERS),
                    help="which peers to run (default: all)")
     p.add_argument("--blender-quality", type=int, nargs="+", default=[BLENDER_QUALITY],
@@ -264,11 +264,10 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import progress_lines
+    from catwalk.bench import check_walk_seconds, progress_lines
     from catwalk.errors import InputError
 
-    if not 0.5 <= args.seconds <= 10:
-        raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
+    check_walk_seconds(args.seconds)
     for q in args.blender_quality:
         if not 1 <= q <= 200:
             raise InputError(f"--blender-quality must be within 1–200, got {q}")

@@ -58,21 +58,15 @@ class PeerScene:
 
 def paper_scene(seconds: float, size: str = "M", progress=None) -> PeerScene:
     """Dress the paper's scene once and skin the body for every frame of the walk."""
-    from catwalk.bench.paper import choose_h
-    from catwalk.body.rig import measured_base_body
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
-    from catwalk.motion.gait import walk_motion
+    from catwalk.bench.paper import choose_h, paper_inputs
     from catwalk.simulate import dress, preset
-    from catwalk.simulate.walking import walk_frames
+    from catwalk.simulate.walking import walk_body_frames
 
-    garment = load_garment(next(p for p in catalogue_files() if p.stem == "dress"))
-    body = measured_base_body(0.0)
+    garment, body, motion = paper_inputs(seconds)
     h, _ = choose_h(garment, body, size)
     settings = preset("balanced").with_(h=h)
     dressed = dress(body, garment, size, settings=settings, progress=progress)
-    motion = walk_motion(body, seconds, style="catwalk")
-    frames, _, n_pre = walk_frames(body, motion, settings, progress=progress)
+    frames, _, n_pre = walk_body_frames(body, motion, settings, progress=progress)
     return PeerScene(body, dressed, motion, settings, frames, n_pre, h)
 
 
