@@ -62,6 +62,18 @@ Method:
   not from ``previous_positions``, so the skips hold for any motion of the body and the points
   (docs/collide.md, "What the skips rest on").
 
+Structure: :func:`~catwalk.collide.modes.make_collider` returns the mode's class, each a
+:class:`~catwalk.collide.collider.Collider` (the interface above, and what every mode shares:
+input checks, the body's two frames and normals, the substep count, a pass split over threads,
+the sharp vertices' push, the reports): :class:`~catwalk.collide.image.ImageCollider`,
+:class:`~catwalk.collide.object.ObjectCollider` and
+:class:`~catwalk.collide.hybrid.HybridCollider` (with its fallbacks). Each answers a substep's
+points in its own ``_resolve`` with the passes it holds: an
+:class:`~catwalk.collide.image_pass.ImagePass` (the depth maps) and an
+:class:`~catwalk.collide.object_pass.ObjectPass` (the parts' hierarchies). A mode's own options
+(hybrid's ``edge_fallback``, ``limb_fallback``) are taken by ``make_collider`` in every mode
+and do nothing in the others.
+
 Kernels are ``@numba.njit(cache=True, _nrt=False)`` over flat arrays (numba's runtime off: no
 reference counting of array arguments on every call; they never allocate — workspaces come from
 the collider). Costs and their measurement: ``docs/collide.md``, ``catwalk bench collide``.
@@ -69,6 +81,11 @@ the collider). Costs and their measurement: ``docs/collide.md``, ``catwalk bench
 Test bodies: :mod:`catwalk.collide.shapes` (sphere, capsule, a capsule mannequin with parts).
 """
 
-from catwalk.collide.collider import MODES, Collider, Skips, make_collider
+from catwalk.collide.collider import Collider, Skips
+from catwalk.collide.hybrid import HybridCollider
+from catwalk.collide.image import ImageCollider
+from catwalk.collide.modes import MODES, make_collider
+from catwalk.collide.object import ObjectCollider
 
-__all__ = ["MODES", "Collider", "Skips", "make_collider"]
+__all__ = ["MODES", "Collider", "HybridCollider", "ImageCollider", "ObjectCollider", "Skips",
+           "make_collider"]

@@ -1,0 +1,97 @@
+"""Hybrid mode (the paper's collider, §4): torso+head in depth maps, each limb in its own
+hierarchy; the points the maps cannot answer, and those a limb held, go to object space."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from catwalk.collide.collider import NO_MASK, Collider, Substep
+from catwalk.collide.image_pass import ImagePass
+from catwalk.collide.object_pass import ObjectPass
+
+TORSO = 0
+LIMBS = (1, 2, 3, 4)
+
+
+class HybridCollider(Collider):
+    """Torso+head in the depth maps (:class:`~catwalk.collide.image_pass.ImagePass`), the
+    limbs in hierarchies (:class:`~catwalk.collide.object_pass.ObjectPass`).
+
+    ``edge_fallback``: the points the torso's maps cannot answer (at their silhouette, where
+    the surface turns away from both cameras) go to object space against every part, the
+    torso's own hierarchy included (built for them alone); False: the paper's hybrid.
+    ``limb_fallback`` (with the edge fallback): so do the points a limb held at the last
+    resolve (a point pinched between an arm and the torso, answered by the maps and by the
+    arm's hierarchy in turn, is pushed back and forth)."""
+
+    mode = "hybrid"
+    MODE_OPTIONS = ("edge_fallback", "limb_fallback")
+
+    def __init__(self, body_faces, parts, *, edge_fallback=True, limb_fallback=True,
+                 **options):
+        super().__init__(body_faces, parts, **options)
+        self.edge_fallback = bool(edge_fallback and self._present[TORSO])
+        self.limb_fallback = bool(self.edge_fallback and limb_fallback)
+        self._use_parts(in_maps=(TORSO,), in_tree=LIMBS, mapped_in_tree=self.edge_fallback)
+        map_faces = self._mapped_faces()
+        if len(map_faces):
+            self._image_pass = ImagePass(self.faces, map_faces, self._map_size,
+                                         self._map_margin)
+        if self.hier_parts.any():
+            self._object_pass = ObjectPass(self.faces, self.face_part, self.hier_parts,
+                                           self.n_vertices, self.leaf_size)
+        self._pts = self._edge_pts = None  # the object pass's PointState: limbs, edge fallback
+        self._edge = np.zeros(0, bool)   # the points the image pass leaves to object space
+        self._rest = np.zeros(0, bool)   # and the others
+
+    def _resolve(self, s: Substep, held) -> None:
+        reach = None if self._object_pass is None else self._object_pass.reach(self, s.lo, s.hi)
+        use_edge = self.edge_fallback and reach is not None and bool(reach[TORSO])
+        flagged = False
+        if self._image_pass is not None:
+            edge = self._edge_marks(len(s.pos)) if use_edge else NO_MASK
+            self._image_pass.run(self, s, held, edge)
+            flagged = use_edge and bool(self._edge.any())
+        if self._object_pass is not None:
+            self._object_space(s, held, reach, flagged, track=use_edge and self.limb_fallback)
+
+    def _edge_marks(self, n: int) -> np.ndarray:
+        """The edge marks before the image pass: none, or (limb fallback) the points a limb
+        held at the last resolve."""
+        if len(self._edge) != n:
+            self._edge = np.zeros(n, bool)
+            self._rest = np.ones(n, bool)
+        elif self.limb_fallback and len(self._near_limb) == n:
+            # points a limb held at the last resolve: object space against every part (a
+            # point pinched between an arm and the torso answered by the maps and by the
+            # arm's hierarchy in turn is pushed back and forth)
+            self._edge[:] = self._near_limb
+        else:
+            self._edge[:] = False
+        return self._edge
+
+    def _object_space(self, s: Substep, held, reach, flagged: bool, track: bool) -> None:
+        """The object passes: the points the maps left (``flagged``) against every part in
+        ``reach``, the others against the limbs; ``track``: note the points a limb held."""
+        n = len(s.pos)
+        he = np.zeros(n, bool) if track else held
+        hl = np.zeros(n, bool) if track else held
+        op = self._object_pass
+        if flagged:
+            # the points the maps left alone: object space, every part in reach (the
+            # nearest surface of all, as in object mode); the others: the limbs
+            np.logical_not(self._edge, out=self._rest)
+            self._edge_pts = op.run(self, s, he, reach, self._edge_pts, self._edge)
+        if self.tree_parts.any():
+            self._pts = op.run(self, s, hl, reach & self.tree_parts, self._pts,
+                               self._rest if flagged else NO_MASK)
+        if track:
+            held |= he
+            held |= hl
+            # held by a limb: by the limbs' pass, or by a limb's triangle in the all-parts
+            # pass
+            near = hl
+            if flagged and self._edge_pts is not None:
+                t = self._edge_pts.cache_tri
+                near = near | (he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO))
+            self._near_limb = near
