@@ -38,6 +38,8 @@ def test_the_stress_cells_refuse_run_and_blow_up_as_reported(dressable_body, ski
     assert run["energy_ratio"] is not None and np.isfinite(run["energy_ratio"])
     too_fast = stress.cell(dressable_body, skirt, "M", fast, speed=4.8)
     assert too_fast["status"] == "refused" and "speed" in too_fast["message"]
+    too_high = stress.cell(dressable_body, skirt, "M", fast, arm_swing_deg=120.0)
+    assert too_high["status"] == "refused" and "arm swing" in too_high["message"]
 
     from catwalk.simulate import dress
 
@@ -71,3 +73,40 @@ def test_the_table_says_what_each_cell_is():
     assert "refused: step_safety …; with the guard off it blew up after 0.05 s" in t
     assert "nan: non-finite cloth positions" in t
     assert "1 with NaN" in t
+
+
+def test_the_arm_swing_reaches_forward_as_asked(dressable_body):
+    from catwalk.motion.gait import walk_motion
+    from catwalk.motion.skinning import body_frames
+
+    def hand_reach(deg):
+        """How far the left arm's vertices get in front of the pelvis' mean, over the walk."""
+        v, _ = body_frames(dressable_body, walk_motion(dressable_body, 1.0, arm_swing_deg=deg))
+        arm = dressable_body.parts == 1
+        return float((v[:, arm, 2] - v[:, :, 2].mean(axis=1, keepdims=True)).max())
+
+    default, raised = hand_reach(None), hand_reach(90.0)
+    assert hand_reach(11.0) == default              # the catwalk style's own amplitude
+    assert raised > default + 0.3                   # an arm raised forward: ≈ its length
+    with pytest.raises(InputError, match="arm swing must be within 0–90°"):
+        walk_motion(dressable_body, 1.0, arm_swing_deg=-5.0)
+
+
+def test_a_grid_names_two_different_axes_before_any_work():
+    for bad in (("step", "step"), ("speed", "colour")):
+        with pytest.raises(InputError, match="--grid takes two different axes"):
+            stress.run(grid=bad, axes=())
+
+
+def test_the_grid_table_lays_the_cells_out():
+    ok = {"status": "ok", "max_penetration_mm": 0.5, "p99_penetration_mm": 0.0,
+          "max_strain": 0.3, "p99_strain": 0.1, "tau": 0.1}
+    cells = [{"axis": "speed×arms", "value": [s, a], **(ok if s < 2 else
+                                                       {"status": "exploded"})}
+             for s in (1.0, 2.0) for a in (11.0, 90.0)]
+    r = {"grid": {"axes": ["speed", "arms"], "values": [[1.0, 2.0], [11.0, 90.0]]},
+         "cells": cells}
+    t = stress.grid_table(r)
+    assert "| speed \\ arms | 11.0 | 90.0 |" in t
+    assert "| 1.0 | 0.50 mm, 0.300 / 0.1000 | 0.50 mm, 0.300 / 0.1000 |" in t
+    assert "| 2.0 | **exploded** | **exploded** |" in t

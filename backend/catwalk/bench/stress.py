@@ -1,7 +1,8 @@
 """``catwalk bench stress``: the try-on's numerical stability across its range.
 
 One scene (a catalogue garment in size M on the sample body its size was made for, the
-``balanced`` preset, a 1 s catwalk walk) is varied along one axis at a time:
+``balanced`` preset, a 1 s catwalk walk) is varied along one axis at a time (``--axes``), and
+over every pair of values of two axes (``--grid A B``):
 
 * ``step``: the cloth's time step as a share of its stable step (eq. 4's bound), 0.5–4× the
   default (``Settings.step_safety`` 0.9). Beyond the stable step itself (a share above 1,
@@ -13,6 +14,9 @@ One scene (a catalogue garment in size M on the sample body its size was made fo
   follows: √10 ≈ 3.2× more steps at 10×);
 * ``speed``: the walk at 0.5–2.5× its 1.2 m/s (4×, 4.8 m/s, a run, is beyond the gait's 3 m/s:
   refused with the gait's message);
+* ``arms``: the arms' swing amplitude about the shoulder, the catwalk's 11° up to 90° (arms
+  raised to the horizontal at the front of the swing, and beyond the shoulder's range at its
+  back: a stress case, not a pose);
 * ``garment``: every catalogue garment;
 * ``long``: the default scene walked for ``--long-seconds``.
 
@@ -33,6 +37,9 @@ import time
 STEP_FACTORS = (0.5, 1.0, 1.1, 2.0, 4.0)
 STIFFNESS_FACTORS = (0.1, 1.0, 10.0)
 SPEED_FACTORS = (0.5, 1.0, 2.0, 2.5, 4.0)
+#: the arms' swing amplitude (degrees about the shoulder, forward and back): the catwalk
+#: style's own 11° first, up to arms raised to the horizontal
+ARM_SWING_DEG = (11.0, 30.0, 60.0, 90.0)
 BASE_SPEED = 1.2
 BASE_SAFETY = 0.9
 ENERGY_BOUND = 10.0
@@ -78,7 +85,7 @@ def blow_up_time(body, dressed, safety: float, seconds: float = 0.5) -> dict:
 
 
 def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE_SPEED,
-         seconds: float = 1.0) -> dict:
+         seconds: float = 1.0, arm_swing_deg: float | None = None) -> dict:
     """Dress and walk one variant; its errors (module docstring)."""
     import numpy as np
 
@@ -90,7 +97,8 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
 
     try:
         settings = settings.check()
-        motion = walk_motion(body, seconds, speed=speed, style="catwalk")
+        motion = walk_motion(body, seconds, speed=speed, style="catwalk",
+                             arm_swing_deg=arm_swing_deg)
     except InputError as exc:
         return {"status": "refused", "message": str(exc)}
     t0 = time.perf_counter()
@@ -122,21 +130,25 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
     }
 
 
-def run(garment_name: str = "dress", axes=("step", "stiffness", "speed", "garment", "long"),
-        long_seconds: float = 20.0, progress=None, collider: str | None = None,
-        sizes=("M",)) -> dict:
-    """The grid (module docstring) on the ``balanced`` preset (its ``collider`` changed if
-    given); the garment axis walks each catalogue garment in each of ``sizes`` it has (the
-    default scene's garment in M, or its middle size). A cell asked twice (the default scene
-    is each axis's 1× cell) is simulated once."""
-    from dataclasses import replace
+#: the axes a cell can vary, and the value of each at the default scene
+AXES = {"step": STEP_FACTORS, "stiffness": STIFFNESS_FACTORS, "speed": SPEED_FACTORS,
+        "arms": ARM_SWING_DEG}
+DEFAULTS = {"step": 1.0, "stiffness": 1.0, "speed": 1.0, "arms": ARM_SWING_DEG[0]}
+#: the single-axis runs, in order
+ALL_AXES = ("step", "stiffness", "speed", "arms", "garment", "long")
 
+
+def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
+        progress=None, collider: str | None = None, sizes=("M",),
+        grid: tuple[str, str] | None = None) -> dict:
+    """The runs of the module docstring on the ``balanced`` preset (its ``collider`` changed if
+    given): each of ``axes`` varied alone, then, if ``grid`` names two of :data:`AXES`, every
+    pair of their values. The garment axis walks each catalogue garment in each of ``sizes``
+    it has (the default scene's garment in M, or its middle size). A cell asked twice (the
+    default scene is each axis's 1× cell) is simulated once."""
     from catwalk.bench import cpu_model
-    from catwalk.body.commands import sample_body
     from catwalk.errors import InputError
-    from catwalk.exchange.garment_json import load_garment
     from catwalk.garment.catalogue import catalogue_files
-    from catwalk.garment.check import resolve_fabric
     from catwalk.simulate import dress, preset
 
     progress = progress or (lambda what: None)
@@ -144,30 +156,14 @@ def run(garment_name: str = "dress", axes=("step", "stiffness", "speed", "garmen
     if garment_name not in files:
         raise InputError(f"no catalogue garment {garment_name!r} (choose from "
                          f"{', '.join(files)})", "garment")
+    if grid is not None and (len(grid) != 2 or grid[0] == grid[1] or
+                             any(a not in AXES for a in grid)):
+        raise InputError(f"--grid takes two different axes of {', '.join(AXES)}, got "
+                         f"{' '.join(grid)}", "grid")
     base = preset("balanced").with_(collider=collider)
-    garments, bodies, memo = {}, {}, {}
-
-    def body_for(g, size):
-        name = g.fit.get(size)
-        if name not in bodies:
-            bodies[name] = sample_body(name)
-        return bodies[name]
-
-    def measured(name, size, settings=base, stiffness=1.0, speed=BASE_SPEED, seconds=1.0):
-        key = (name, size, settings, stiffness, speed, seconds)
-        if key not in memo:
-            g = garments.setdefault(name, load_garment(files[name]))
-            fab = None
-            if stiffness != 1.0:
-                fab = resolve_fabric(g.fabric, "garment fabric")
-                fab = replace(fab, **{k: getattr(fab, k) * stiffness for k in STIFF_FIELDS})
-            memo[key] = cell(body_for(g, size), g, size, settings, fabric=fab, speed=speed,
-                             seconds=seconds)
-        return dict(memo[key])
-
-    g = garments.setdefault(garment_name, load_garment(files[garment_name]))
+    scene = _Scene(base, files)
+    g = scene.garment(garment_name)
     size = "M" if "M" in g.sizes else g.sizes[len(g.sizes) // 2]
-    body = body_for(g, size)
     out = {"machine": {"cpu": cpu_model(), "threads": 1}, "garment": garment_name,
            "size": size, "preset": base.name, "collider": base.collider, "cells": []}
 
@@ -175,31 +171,33 @@ def run(garment_name: str = "dress", axes=("step", "stiffness", "speed", "garmen
         progress(f"{axis} {value}: {result['status']}")
         out["cells"].append({"axis": axis, "value": value, **result})
 
-    if "step" in axes:
-        dressed = None
-        for f in STEP_FACTORS:
-            r = measured(garment_name, size, replace(base, step_safety=BASE_SAFETY * f))
-            if r["status"] == "refused":
-                # the refusal is needed: the default dressing stepped with the guard off
-                dressed = dressed or dress(body, g, size, settings=base)
-                r["guard_off"] = blow_up_time(body, dressed, BASE_SAFETY * f)
-            add("step", f, r)
-    if "stiffness" in axes:
-        for f in STIFFNESS_FACTORS:
-            add("stiffness", f, measured(garment_name, size, stiffness=f))
-    if "speed" in axes:
-        for f in SPEED_FACTORS:
-            add("speed", f, measured(garment_name, size, speed=BASE_SPEED * f))
-    if "garment" in axes:
-        for name in files:
-            gg = garments.setdefault(name, load_garment(files[name]))
-            chosen = [x for x in gg.sizes if x in sizes]
-            if not chosen and sizes == ("M",):   # a garment without an M: its middle size
-                chosen = [gg.sizes[len(gg.sizes) // 2]]
-            for ss in chosen:
-                add("garment", f"{name} {ss}", measured(name, ss))
-    if "long" in axes:
-        add("long", long_seconds, measured(garment_name, size, seconds=long_seconds))
+    for axis in (a for a in ALL_AXES if a in axes):
+        if axis in AXES:
+            dressed = None
+            for value in AXES[axis]:
+                r = scene.cell(garment_name, size, **{axis: value})
+                if axis == "step" and r["status"] == "refused":
+                    # the refusal is needed: the default dressing stepped with the guard off
+                    body = scene.body(g, size)
+                    dressed = dressed or dress(body, g, size, settings=base)
+                    r["guard_off"] = blow_up_time(body, dressed, BASE_SAFETY * value)
+                add(axis, value, r)
+        elif axis == "garment":
+            for name in files:
+                gg = scene.garment(name)
+                chosen = [x for x in gg.sizes if x in sizes]
+                if not chosen and tuple(sizes) == ("M",):   # no M: its middle size
+                    chosen = [gg.sizes[len(gg.sizes) // 2]]
+                for ss in chosen:
+                    add("garment", f"{name} {ss}", scene.cell(name, ss))
+        elif axis == "long":
+            add("long", long_seconds, scene.cell(garment_name, size, seconds=long_seconds))
+    if grid is not None:
+        a, b = grid
+        out["grid"] = {"axes": [a, b], "values": [list(AXES[a]), list(AXES[b])]}
+        for va in AXES[a]:
+            for vb in AXES[b]:
+                add(f"{a}×{b}", [va, vb], scene.cell(garment_name, size, **{a: va, b: vb}))
     ok = [c for c in out["cells"] if c["status"] == "ok"]
     out["summary"] = {
         "cells": len(out["cells"]), "ok": len(ok),
@@ -209,6 +207,51 @@ def run(garment_name: str = "dress", axes=("step", "stiffness", "speed", "garmen
         "energy_unbounded": sum(not c["energy_bounded"] for c in ok),
     }
     return out
+
+
+class _Scene:
+    """The catalogue's garments and sample bodies, loaded once, and the cells already run."""
+
+    def __init__(self, base, files):
+        self.base, self.files = base, files
+        self.garments, self.bodies, self.memo = {}, {}, {}
+
+    def garment(self, name):
+        from catwalk.exchange.garment_json import load_garment
+
+        if name not in self.garments:
+            self.garments[name] = load_garment(self.files[name])
+        return self.garments[name]
+
+    def body(self, g, size):
+        from catwalk.body.commands import sample_body
+
+        name = g.fit.get(size)
+        if name not in self.bodies:
+            self.bodies[name] = sample_body(name)
+        return self.bodies[name]
+
+    def cell(self, name, size, *, step=1.0, stiffness=1.0, speed=1.0, arms=ARM_SWING_DEG[0],
+             seconds=1.0) -> dict:
+        """:func:`cell` for the garment ``name`` in ``size`` with each axis at its factor
+        (``arms``: the swing amplitude in degrees)."""
+        from dataclasses import replace
+
+        from catwalk.garment.check import resolve_fabric
+
+        key = (name, size, step, stiffness, speed, arms, seconds)
+        if key not in self.memo:
+            g = self.garment(name)
+            fab = None
+            if stiffness != 1.0:
+                fab = resolve_fabric(g.fabric, "garment fabric")
+                fab = replace(fab, **{k: getattr(fab, k) * stiffness for k in STIFF_FIELDS})
+            settings = self.base if step == 1.0 else \
+                replace(self.base, step_safety=BASE_SAFETY * step)
+            self.memo[key] = cell(self.body(g, size), g, size, settings, fabric=fab,
+                                  speed=BASE_SPEED * speed, seconds=seconds,
+                                  arm_swing_deg=None if arms == ARM_SWING_DEG[0] else arms)
+        return dict(self.memo[key])
 
 
 def format_table(r: dict) -> str:
@@ -232,10 +275,33 @@ def format_table(r: dict) -> str:
                          f"{c['guard_off']['stable_for_s']} s")
             lines.append(f"| {c['axis']} | {c['value']} | {c['status']}: {c['message']}{extra} "
                          "| | | | |")
+    if "grid" in r:
+        lines += ["", *grid_table(r)]
     s = r["summary"]
     lines += ["", f"{s['cells']} cells: {s['ok']} ok, {s['exploded']} exploded, {s['refused']} "
               f"refused, {s['nan']} with NaN, {s['energy_unbounded']} with growing energy"]
     return "\n".join(lines)
+
+
+def _brief(c: dict) -> str:
+    if c["status"] != "ok":
+        return f"**{c['status']}**"
+    return (f"{c['max_penetration_mm']:.2f} mm, {c['max_strain']:.3f} / "
+            f"{c['p99_strain']:.4f}")
+
+
+def grid_table(r: dict) -> list[str]:
+    """The ``--grid`` cells as a table: the first axis down, the second across; each entry
+    the max penetration and the max / p99 strain (or the status when not ok)."""
+    a, b = r["grid"]["axes"]
+    va, vb = r["grid"]["values"]
+    cells = {tuple(c["value"]): c for c in r["cells"] if c["axis"] == f"{a}×{b}"}
+    lines = [f"grid: {a} (down) × {b} (across); each: max penetration, max / p99 strain",
+             "", f"| {a} \\ {b} | " + " | ".join(str(x) for x in vb) + " |",
+             "|---" * (len(vb) + 1) + "|"]
+    for x in va:
+        lines.append(f"| {x} | " + " | ".join(_brief(cells[(x, y)]) for y in vb) + " |")
+    return lines
 
 
 def register(bench) -> None:
@@ -243,14 +309,16 @@ def register(bench) -> None:
 
     p = bench.add_parser(
         "stress", help="stability across the range: time step, stiffness, walking speed, "
-        "every garment, a long walk (explosions, NaN, energy, penetration, strain)",
-        description="One scene varied along one axis at a time (the module docstring of "
-        "catwalk.bench.stress); each cell: ok / exploded / refused with its message, "
-        "penetration, strain, kinetic energy over the walk, ms per frame.")
+        "arm swing, every garment, a long walk (explosions, NaN, energy, penetration, strain)",
+        description="One scene varied along one axis at a time, and over a grid of two axes "
+        "(the module docstring of catwalk.bench.stress); each cell: ok / exploded / refused "
+        "with its message, penetration, strain, kinetic energy over the walk, ms per frame.")
     p.add_argument("--garment", default="dress", help="catalogue garment (default dress)")
-    p.add_argument("--axes", nargs="+", default=["step", "stiffness", "speed", "garment",
-                                                   "long"],
-                   choices=["step", "stiffness", "speed", "garment", "long"])
+    p.add_argument("--axes", nargs="+", choices=list(ALL_AXES),
+                   help="the axes varied one at a time (default: all of them, or none with "
+                   "--grid)")
+    p.add_argument("--grid", nargs=2, metavar=("AXIS", "AXIS"), choices=list(AXES),
+                   help="also every pair of values of these two axes")
     p.add_argument("--long-seconds", type=float, default=20.0,
                    help="length of the long walk (default 20 s = 600 frames)")
     p.add_argument("--collider", choices=["object", "hybrid", "image"],
@@ -267,7 +335,9 @@ def main(args) -> int:
 
     if not 1.0 <= args.long_seconds <= 400.0:
         raise InputError(f"--long-seconds must be within 1–400, got {args.long_seconds}")
-    r = run(args.garment, tuple(args.axes), args.long_seconds,
-            progress=progress_lines(args), collider=args.collider, sizes=tuple(args.sizes))
+    axes = args.axes if args.axes is not None else (() if args.grid else ALL_AXES)
+    r = run(args.garment, tuple(axes), args.long_seconds, progress=progress_lines(args),
+            collider=args.collider, sizes=tuple(args.sizes),
+            grid=tuple(args.grid) if args.grid else None)
     print(json.dumps(r, indent=2) if args.json else format_table(r))
     return 0

@@ -26,7 +26,7 @@ Axes: glTF, metres; the body faces and walks along +Z; left = +X.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -276,8 +276,14 @@ def _arm_clearance_abduction(body: Body, sk, side: str, shoulder, elbow_len, for
 
 
 def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "catwalk",
-                fps: float = 30, closing_frame: bool = False) -> Motion:
+                fps: float = 30, closing_frame: bool = False,
+                arm_swing_deg: float | None = None) -> Motion:
     """A looping walk for a rigged body (see the module docstring).
+
+    ``arm_swing_deg``: the arms' swing amplitude about the shoulder, forward and back (default
+    the style's: 11° catwalk, 16° normal); up to 90° (arms raised to the horizontal at the
+    front of the swing — and, beyond the shoulder's ≈ 60° of extension, at its back: a stress
+    case, not a pose).
 
     The clip holds a whole number of gait cycles: ``seconds`` is rounded to whole cycles (and
     frames). Frame ``frames`` (one past the last) would equal frame 0 moved forward by
@@ -295,11 +301,17 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
         raise InputError(f"fps must be within 1–240, got {fps}", "fps")
     if style not in STYLES:
         raise InputError(f"unknown style {style!r}; choose one of {', '.join(STYLES)}")
+    if arm_swing_deg is not None and not (np.isfinite(arm_swing_deg) and
+                                          0.0 <= arm_swing_deg <= 90.0):
+        raise InputError(f"arm swing must be within 0–90°, got {arm_swing_deg}",
+                         "arm_swing_deg")
     sk = body.skeleton
     missing = [b for b in REQUIRED_BONES if b not in sk.names]
     if missing:
         raise InputError(f"the body's rig lacks the bones {', '.join(missing)} needed to walk")
     st = STYLES[style]
+    if arm_swing_deg is not None:
+        st = replace(st, arm_swing_deg=float(arm_swing_deg))
     J = len(sk.names)
     rw = sk.rest_world
     R0 = rw[:, :3, :3]
