@@ -58,13 +58,13 @@ from catwalk.cloth.model import ClothModel, State
 from catwalk.cloth.solver import Solver, max_strain
 from catwalk.collide import make_collider
 from catwalk.errors import Cancelled, InputError, SimulationError
+from catwalk.simulate.contacts import Floor, body_contacts, keep
 from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gaps, weld
 from catwalk.simulate.settings import PRESETS, Settings
 from catwalk.simulate.stepping import (
     ORDER_TOLERANCE,
     advance,
     collide_and_floor,
-    floor_contact,
     max_move,
     never,
     quiet,
@@ -113,9 +113,8 @@ def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.n
         if cancel is not None and cancel():
             raise Cancelled("try-on cancelled")
         x0[:] = state.positions
-        held = collider.resolve(state.positions, state.velocities, x0, alpha=1.0)
-        state.held = np.asarray(held, dtype=bool)
-        floor_contact(state, collider.thickness, 0.0)
+        body = body_contacts(collider, state, x0, 1.0)
+        keep(state, body, Floor(collider.thickness, 0.0).resolve(state))
         # the first rounds relax every spring (points pushed to opposite sides of a thin limb
         # pull each other back); the last keeps the pushed points where the body put them
         if r < rounds - 1:

@@ -1,8 +1,9 @@
 """Stepping the dressed cloth on the body: what dressing and walking both run.
 
 :func:`advance` simulates an interval with ``n`` collider resolves evenly spread and the cloth
-solver's own stable step between them; each resolve (:func:`resolve_contacts`) is the body's
-collider, then the floor (:func:`floor_contact`), then Provot's position correction so the
+solver's own stable step between them; each resolve (:func:`resolve_contacts`) is a detection
+— the body's collider, then the floor, each a contact source (:mod:`catwalk.simulate.contacts`)
+— then Provot's position correction so the
 cloth round the pushed points follows them, then a speed cap. :func:`collisions_for` picks
 ``n`` from how far things moved. A blown-up interval is run again from its start with twice the
 resolves (up to a limit).
@@ -16,9 +17,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-from catwalk.cloth.model import PLANE_COLUMNS, ClothModel, State
+from catwalk.cloth.model import ClothModel, State
 from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.errors import Cancelled
+from catwalk.simulate.contacts import Floor, body_contacts, keep
 from catwalk.simulate.settings import Settings
 
 ORDER_TOLERANCE = 0.05   # recompute the strain-limit order when 5 % of the contacts changed
@@ -37,44 +39,12 @@ def quiet(stage: str, i: int, total: int) -> None:
     pass
 
 
-def floor_contact(state: State, thickness: float, friction: float, y0: float = 0.0) -> None:
-    """The catwalk's floor (y = ``y0``, the body's soles): points below ``y0 + thickness`` go up
-    to it, lose their downward velocity and, by Coulomb friction, μ·|Δv_y| of their sliding
-    speed; they count as held."""
-    x, v = state.positions, state.velocities
-    low = x[:, 1] < y0 + thickness
-    if not low.any():
-        return
-    idx = np.nonzero(low)[0]
-    x[idx, 1] = y0 + thickness
-    dv = np.maximum(-v[idx, 1], 0.0)
-    v[idx, 1] = np.maximum(v[idx, 1], 0.0)
-    slide = np.sqrt(v[idx, 0] ** 2 + v[idx, 2] ** 2)
-    keep = np.where(slide > 0, np.maximum(slide - friction * dv, 0.0) / np.maximum(slide, 1e-12),
-                    0.0)
-    v[idx, 0] *= keep
-    v[idx, 2] *= keep
-    state.held[idx] = True
-
-
 def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | None) -> None:
-    """The collider's response at ``alpha``, then the floor's; the state takes the held
-    points and their contact planes (the floor's for points on it that the body does not
-    hold), which the solver keeps until the next response."""
-    held = collider.resolve(state.positions, state.velocities, x0, alpha=alpha)
-    state.held = np.asarray(held, dtype=bool)
-    body = state.held.copy()
-    floor_contact(state, collider.thickness, collider.friction)
-    planes = getattr(collider, "planes", None)
-    if planes is None or planes.shape != (len(state.held), PLANE_COLUMNS):
-        state.planes = None
-        return
-    if state.planes is None or state.planes.shape != planes.shape:
-        state.planes = np.empty_like(planes)
-    state.planes[:] = planes
-    floor = state.held & ~body
-    state.planes[floor] = (0.0, 1.0, 0.0, collider.thickness, 0.0, 0.0, 0.0, collider.friction)
-    state.plane_time = state.time
+    """One detection: the body's contacts (the collider at ``alpha``), then the floor's; the
+    state keeps the held points and their contact planes (the body's, the floor's for points
+    on it that the body does not hold) until the next response."""
+    body = body_contacts(collider, state, x0, alpha)
+    keep(state, body, Floor(collider.thickness, collider.friction).resolve(state))
 
 
 def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,
