@@ -185,175 +185,218 @@ def dress(body, garment, size: str | None = None, fabric=None,
     (a :class:`~catwalk.body.types.Body` with landmarks and parts) in its rest pose, or posed as
     ``vertices`` (landmarks are still taken from the rest pose). See the module docstring."""
     settings = (settings or PRESETS["balanced"]).check()
-    progress = progress or quiet
-    cancel = cancel or never
     if body.parts is None:
         raise InputError("the body has no per-vertex parts; make it with `catwalk body make`")
-    t_start = time.perf_counter()
-    progress("placing", 0, 3)
-    gc = garment_cloth(garment, body, size, fabric, h=settings.h)
-    if cancel():
-        raise Cancelled("try-on cancelled")
-    progress("placing", 1, 3)
-    model = gc.model
-    if len(model.seam_a) == 0:
-        raise DressingError(f"garment {garment.name!r} has no seams to sew")
-    verts = np.ascontiguousarray(body.vertices if vertices is None else vertices,
-                                 dtype=np.float64)
-    friction = gc.fabric.friction if settings.friction is None else settings.friction
-    collider = make_collider(settings.collider, body.faces, body.parts, friction=0.0,
-                             **settings.collider_options())
-    collider.update(verts, np.zeros_like(verts))
-    state = State.from_model(model)
-    m_med = float(np.median(model.mass))
-    w = settings.sew_omega
-    solver = Solver(model, settings.method, gravity=(0.0, 0.0, 0.0), sewing=True,
-                    safety=settings.step_safety,
-                    seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med, extra_air=2.0,
-                    held_fixed=False, order_tolerance=ORDER_TOLERANCE)
-    x0 = state.positions.copy()
-    progress("placing", 2, 3)
-    push_out(solver, model, state, collider, x0, cancel=cancel)
-    progress("placing", 3, 3)
-    dclock = {}
+    run = _Dressing(body, garment, size, fabric, settings, vertices, progress or quiet,
+                    cancel or never)
+    run.sew()
+    run.settle()
+    run.finish()
+    run.check_seams()
+    return Dressed(run.gc, run.model, run.rep, run.state, run.stats(), run.sewn, run.display)
 
-    # --- sew ---
-    chunks = max(1, round(settings.sew_seconds / CHUNK))
-    gaps = seam_gaps(model, state.positions)
-    gap0 = float(gaps.max())
-    history = [gap0]
-    means = [float(gaps.mean())]
-    sewn_chunks = 0
-    prev = state.positions.copy()
-    for i in range(chunks):
-        if cancel():
+
+class _Dressing:
+    """One dressing, its phases in the module docstring's order: placed (on construction),
+    :meth:`sew`, :meth:`settle` (welding as seams close), :meth:`finish` (the last response,
+    the strain relief, what is shown), :meth:`check_seams`; :meth:`stats` reports it."""
+
+    def __init__(self, body, garment, size, fabric, settings: Settings, vertices, progress,
+                 cancel):
+        self.garment, self.settings = garment, settings
+        self.progress, self.cancel = progress, cancel
+        self.t_start = time.perf_counter()
+        progress("placing", 0, 3)
+        self.gc = gc = garment_cloth(garment, body, size, fabric, h=settings.h)
+        self._check_cancel()
+        progress("placing", 1, 3)
+        self.pattern = model = gc.model
+        if len(model.seam_a) == 0:
+            raise DressingError(f"garment {garment.name!r} has no seams to sew")
+        verts = np.ascontiguousarray(body.vertices if vertices is None else vertices,
+                                     dtype=np.float64)
+        self.friction = gc.fabric.friction if settings.friction is None else settings.friction
+        self.collider = make_collider(settings.collider, body.faces, body.parts, friction=0.0,
+                                      **settings.collider_options())
+        self.collider.update(verts, np.zeros_like(verts))
+        self.state = State.from_model(model)
+        self.m_med = float(np.median(model.mass))
+        w = settings.sew_omega
+        self.solver = Solver(model, settings.method, gravity=(0.0, 0.0, 0.0), sewing=True,
+                             safety=settings.step_safety, seam_stiffness=w * w * self.m_med,
+                             seam_damping=2.0 * w * self.m_med, extra_air=2.0,
+                             held_fixed=False, order_tolerance=ORDER_TOLERANCE)
+        self.x0 = self.state.positions.copy()
+        progress("placing", 2, 3)
+        push_out(self.solver, model, self.state, self.collider, self.x0, cancel=cancel)
+        progress("placing", 3, 3)
+        self.clock = {}
+
+    def _check_cancel(self) -> None:
+        if self.cancel():
             raise Cancelled("try-on cancelled")
-        prev[:] = state.positions
-        if (i + 1) * CHUNK <= settings.sew_free_seconds:
-            solver.step(model, state, None, CHUNK)
-        else:
-            advance(solver, model, state, collider, CHUNK, settings.sew_collisions, x0,
-                    settings.max_collisions * 4, dclock, cancel)
-        sewn_chunks = i + 1
-        gaps = seam_gaps(model, state.positions)
-        history.append(float(gaps.max()))
-        progress("sewing", i + 1, chunks)
-        if history[-1] < settings.weld_gap:
-            break
-        means.append(float(gaps.mean()))
-        lag = round(settings.sew_stall_seconds / CHUNK)
-        if (lag > 0 and len(history) > lag and (i + 1) * CHUNK >= MIN_SEW_SECONDS
-                and history[-1 - lag] - history[-1] < 0.02 * history[-1 - lag]
-                and means[-1 - lag] - means[-1] < 0.02 * means[-1 - lag]):
-            break   # stalled: neither the widest nor the mean gap shrank by 2 % in 0.3 s
-    t_sewn = time.perf_counter()
-    names = seam_names(garment)
-    sewn = state.positions.copy()
-    gap_sewn = float(gaps.max())
 
-    # --- weld what closed; the rest keeps pulling while the garment settles ---
-    welded, rep, st = _weld_state(model, state, gaps <= settings.weld_reach)
-    strain_weld = max_strain(welded, st.positions)
-    collider.friction = friction
+    def sew(self) -> None:
+        """Seam springs pull the pieces together until every pair is within ``weld_gap``, the
+        gaps stall, or ``sew_seconds`` are up."""
+        st, model, settings = self.state, self.pattern, self.settings
+        chunks = max(1, round(settings.sew_seconds / CHUNK))
+        gaps = seam_gaps(model, st.positions)
+        self.gap0 = float(gaps.max())
+        history = [self.gap0]
+        means = [float(gaps.mean())]
+        self.sewn_chunks = 0
+        for i in range(chunks):
+            self._check_cancel()
+            if (i + 1) * CHUNK <= settings.sew_free_seconds:
+                self.solver.step(model, st, None, CHUNK)
+            else:
+                advance(self.solver, model, st, self.collider, CHUNK, settings.sew_collisions,
+                        self.x0, settings.max_collisions * 4, self.clock, self.cancel)
+            self.sewn_chunks = i + 1
+            gaps = seam_gaps(model, st.positions)
+            history.append(float(gaps.max()))
+            self.progress("sewing", i + 1, chunks)
+            if history[-1] < settings.weld_gap:
+                break
+            means.append(float(gaps.mean()))
+            lag = round(settings.sew_stall_seconds / CHUNK)
+            if (lag > 0 and len(history) > lag and (i + 1) * CHUNK >= MIN_SEW_SECONDS
+                    and history[-1 - lag] - history[-1] < 0.02 * history[-1 - lag]
+                    and means[-1 - lag] - means[-1] < 0.02 * means[-1 - lag]):
+                break   # stalled: neither the widest nor the mean gap shrank by 2 % in 0.3 s
+        self.t_sewn = time.perf_counter()
+        self.sewn = st.positions.copy()
+        self.gap_sewn = float(gaps.max())
+        self.gaps = gaps
 
-    def settle_solver(m):
-        return Solver(m, settings.method, extra_air=SETTLE_AIR, held_fixed=False,
-                      safety=settings.step_safety,
-                      order_tolerance=ORDER_TOLERANCE,
-                      sewing=len(m.seam_a) > 0, seam_stiffness=w * w * m_med,
-                      seam_damping=2.0 * w * m_med)
+    def _settle_solver(self, m: ClothModel) -> Solver:
+        w, s = self.settings.sew_omega, self.settings
+        return Solver(m, s.method, extra_air=SETTLE_AIR, held_fixed=False,
+                      safety=s.step_safety, order_tolerance=ORDER_TOLERANCE,
+                      sewing=len(m.seam_a) > 0, seam_stiffness=w * w * self.m_med,
+                      seam_damping=2.0 * w * self.m_med)
 
-    solver = settle_solver(welded)
-    x0 = st.positions.copy()
-    push_out(solver, welded, st, collider, x0, cancel=cancel)
-    prev = st.positions.copy()
-    chunks = max(0, round(settings.settle_seconds / CHUNK))
-    speed = float("inf")
-    speeds = []
-    settled_chunks = 0
-    limit = chunks
-    i = 0
-    while i < limit:
-        if cancel():
-            raise Cancelled("try-on cancelled")
-        prev[:] = st.positions
-        advance(solver, welded, st, collider, CHUNK, settings.settle_collisions, x0,
-                settings.max_collisions * 4, dclock, cancel)
-        speed = _rms_move(st.positions, prev) / CHUNK   # √(2·kinetic energy / mass)
-        speeds.append(round(speed, 4))
-        i += 1
-        settled_chunks = i
-        progress("settling", i, limit)
+    def _weld(self, closed: np.ndarray) -> np.ndarray:
+        """Weld the seam pairs ``closed``; a new solver and response start for the welded
+        model. Returns the old particles' new ones."""
+        self.model, rep2, self.state = _weld_state(self.model, self.state, closed)
+        self.rep = rep2 if self.rep is None else rep2[self.rep]
+        self.solver = self._settle_solver(self.model)
+        self.x0 = self.state.positions.copy()
+        return rep2
+
+    def settle(self) -> None:
+        """Weld what closed; gravity and friction on, settle until at rest (or the time is
+        up), welding the pairs that close meanwhile (module docstring, 3.–4.)."""
+        settings = self.settings
+        self.model, self.rep = self.pattern, None
+        self._weld(self.gaps <= settings.weld_reach)
+        self.strain_weld = max_strain(self.model, self.state.positions)
+        self.collider.friction = self.friction
+        push_out(self.solver, self.model, self.state, self.collider, self.x0,
+                 cancel=self.cancel)
+        self.prev = self.state.positions.copy()
+        chunks = max(0, round(settings.settle_seconds / CHUNK))
+        self.speed = float("inf")
+        self.speeds = []
+        limit = chunks
+        i = 0
+        while i < limit:
+            self._check_cancel()
+            self.prev[:] = self.state.positions
+            advance(self.solver, self.model, self.state, self.collider, CHUNK,
+                    settings.settle_collisions, self.x0, settings.max_collisions * 4,
+                    self.clock, self.cancel)
+            # √(2·kinetic energy / mass)
+            self.speed = _rms_move(self.state.positions, self.prev) / CHUNK
+            self.speeds.append(round(self.speed, 4))
+            i += 1
+            self.progress("settling", i, limit)
+            if len(self.model.seam_a):
+                # pairs are welded as they close; once the garment is at rest (or the time is
+                # up) the pairs still within reach are welded too, and it settles once more
+                at_rest = self.speed < settings.settle_speed or i == limit
+                gaps = seam_gaps(self.model, self.state.positions)
+                closed = gaps <= (settings.weld_reach if at_rest else settings.weld_gap)
+                if closed.any():
+                    rep2 = self._weld(closed)
+                    self.prev = prev_of(self.prev, rep2, self.model)
+                    if i == limit == chunks:   # the time was up: once, a little more
+                        limit += round(FINAL_SETTLE_SECONDS / CHUNK)
+                    continue
+            if self.speed < settings.settle_speed and not len(self.model.seam_a):
+                break
+        self.settled_chunks = i
+
+    def finish(self) -> None:
+        """The last response, the strain relief, and what is shown."""
+        st, model, collider = self.state, self.model, self.collider
+        # the last correction may have pulled free points a little into the body
+        collide_and_floor(st, collider, self.x0, 1.0)
+        # strain relief: springs the body holds at both ends (a neckline on the neck's base)
+        # can be left over the limit, which the ordered pass cannot correct; let Provot's
+        # correction move held points too, along the body, and push them back out, a few times
+        self.strain_settled = max_strain(model, st.positions)
+        self.relief_rounds, self.strain = relieve_strain(
+            self.solver, model, st, collider, self.x0,
+            CHUNK / self.settings.settle_collisions, self.strain_settled, self.progress,
+            self.cancel)
+        st.velocities[:] = 0.0
+        # what is shown: the body's sharp vertices (bust points) pushed out of the cloth
+        # triangles they come through between three points that are all outside (the resolves
+        # see points)
+        self.display = st.positions.copy()
+        self.sharp = collider.push_off_sharp(self.display, model.triangles)
+        self.sharp_mm = 1e3 * max_move(self.display, st.positions)
+        self.t_end = time.perf_counter()
+
+    def check_seams(self) -> None:
+        """Each seam's widest gap left (``open_gap``); a :class:`DressingError` naming the
+        seams open by more than ``max_open_gap``."""
+        names = seam_names(self.garment)
+        self.open_gap = open_gap = {name: 0.0 for name in names}
+        welded = self.model
         if len(welded.seam_a):
-            # pairs are welded as they close; once the garment is at rest (or the time is
-            # up) the pairs still within reach are welded too, and it settles once more
-            at_rest = speed < settings.settle_speed or i == limit
-            gaps = seam_gaps(welded, st.positions)
-            closed = gaps <= (settings.weld_reach if at_rest else settings.weld_gap)
-            if closed.any():
-                welded, rep2, st = _weld_state(welded, st, closed)
-                rep = rep2[rep]
-                solver = settle_solver(welded)
-                x0 = st.positions.copy()
-                prev = prev_of(prev, rep2, welded)
-                if i == limit == chunks:   # the time was up: once, a little more
-                    limit += round(FINAL_SETTLE_SECONDS / CHUNK)
-                continue
-        if speed < settings.settle_speed and not len(welded.seam_a):
-            break
-    # the last correction may have pulled free points a little into the body
-    collide_and_floor(st, collider, x0, 1.0)
-    # strain relief: springs the body holds at both ends (a neckline on the neck's base) can be
-    # left over the limit, which the ordered pass cannot correct; let Provot's correction move
-    # held points too, along the body, and push them back out, a few times
-    strain_settled = max_strain(welded, st.positions)
-    relief_rounds, strain = relieve_strain(solver, welded, st, collider, x0,
-                                           CHUNK / settings.settle_collisions, strain_settled,
-                                           progress, cancel)
-    st.velocities[:] = 0.0
-    # what is shown: the body's sharp vertices (bust points) pushed out of the cloth triangles
-    # they come through between three points that are all outside (the resolves see points)
-    display = st.positions.copy()
-    sharp = collider.push_off_sharp(display, welded.triangles)
-    sharp_mm = 1e3 * max_move(display, st.positions)
-    t_end = time.perf_counter()
+            left = seam_gaps(welded, self.state.positions)
+            for sid in np.unique(welded.seam_id):
+                open_gap[names[int(sid)]] = float(left[welded.seam_id == sid].max())
+        self.worst = worst = max(open_gap, key=open_gap.get)
+        limit = self.settings.max_open_gap
+        if open_gap[worst] > limit:
+            bad = ", ".join(f"{k!r} by {v * 100:.1f} cm" for k, v in
+                            sorted(open_gap.items(), key=lambda kv: -kv[1]) if v > limit)
+            raise DressingError(
+                f"garment {self.garment.name!r} size {self.gc.size}: after "
+                f"{self.sewn_chunks * CHUNK:.2f} s of sewing and "
+                f"{self.settled_chunks * CHUNK:.2f} s of settling these seams are still open: "
+                f"{bad} (limit {limit * 100:.1f} cm); check the placement hints and seam "
+                "lengths, or whether the size fits this body")
 
-    # --- seams still open ---
-    open_gap = {name: 0.0 for name in names}
-    if len(welded.seam_a):
-        left = seam_gaps(welded, st.positions)
-        for sid in np.unique(welded.seam_id):
-            open_gap[names[int(sid)]] = float(left[welded.seam_id == sid].max())
-    worst = max(open_gap, key=open_gap.get)
-    if open_gap[worst] > settings.max_open_gap:
-        bad = ", ".join(f"{k!r} by {v * 100:.1f} cm" for k, v in
-                        sorted(open_gap.items(), key=lambda kv: -kv[1])
-                        if v > settings.max_open_gap)
-        raise DressingError(
-            f"garment {garment.name!r} size {gc.size}: after {sewn_chunks * CHUNK:.2f} s of "
-            f"sewing and {settled_chunks * CHUNK:.2f} s of settling these seams are still open: "
-            f"{bad} (limit {settings.max_open_gap * 100:.1f} cm); check the placement hints and "
-            "seam lengths, or whether the size fits this body")
-    stats = {
-        "points": int(welded.n_points), "pattern_points": int(model.n_points),
-        "springs": int(welded.n_springs), "seam_pairs": int(len(model.seam_a)),
-        "open_seam_pairs": int(len(welded.seam_a)),
-        "triangles": int(len(model.triangles)), "size": gc.size, "fabric": gc.fabric.id,
-        "dt_max_s": float(solver.dt_max),
-        "sewing_sim_s": sewn_chunks * CHUNK, "settle_sim_s": settled_chunks * CHUNK,
-        "seam_gap_start_m": gap0, "seam_gap_sewn_m": gap_sewn,
-        "seam_gap_m": open_gap[worst], "worst_seam": worst, "seam_gaps_m": open_gap,
-        "strain_after_weld": float(strain_weld), "strain_before_relief": float(strain_settled),
-        "relief_rounds": relief_rounds,
-        "sharp_pushes": int(sharp), "sharp_push_max_mm": sharp_mm,
-        "max_strain": float(strain),   # after the relief (the velocities zeroed since)
-        "settle_speed_rms_m_s": float(speed),
-        "settle_speed_p99_m_s": _p99_move(st.positions, prev) / CHUNK,
-        "settle_speed_max_m_s": max_move(st.positions, prev) / CHUNK,
-        "settled": bool(speed < settings.settle_speed),
-        "settle_speeds_m_s": speeds,
-        "slowed_points": int(dclock.get("slowed", 0)),
-        "sewing_s": t_sewn - t_start, "settling_s": t_end - t_sewn,
-        "dressing_s": t_end - t_start,
-    }
-    return Dressed(gc, welded, rep, st, stats, sewn, display)
+    def stats(self) -> dict:
+        welded, model, st, prev = self.model, self.pattern, self.state, self.prev
+        return {
+            "points": int(welded.n_points), "pattern_points": int(model.n_points),
+            "springs": int(welded.n_springs), "seam_pairs": int(len(model.seam_a)),
+            "open_seam_pairs": int(len(welded.seam_a)),
+            "triangles": int(len(model.triangles)), "size": self.gc.size,
+            "fabric": self.gc.fabric.id, "dt_max_s": float(self.solver.dt_max),
+            "sewing_sim_s": self.sewn_chunks * CHUNK,
+            "settle_sim_s": self.settled_chunks * CHUNK,
+            "seam_gap_start_m": self.gap0, "seam_gap_sewn_m": self.gap_sewn,
+            "seam_gap_m": self.open_gap[self.worst], "worst_seam": self.worst,
+            "seam_gaps_m": self.open_gap,
+            "strain_after_weld": float(self.strain_weld),
+            "strain_before_relief": float(self.strain_settled),
+            "relief_rounds": self.relief_rounds,
+            "sharp_pushes": int(self.sharp), "sharp_push_max_mm": self.sharp_mm,
+            "max_strain": float(self.strain),   # after the relief (the velocities zeroed since)
+            "settle_speed_rms_m_s": float(self.speed),
+            "settle_speed_p99_m_s": _p99_move(st.positions, prev) / CHUNK,
+            "settle_speed_max_m_s": max_move(st.positions, prev) / CHUNK,
+            "settled": bool(self.speed < self.settings.settle_speed),
+            "settle_speeds_m_s": self.speeds,
+            "slowed_points": int(self.clock.get("slowed", 0)),
+            "sewing_s": self.t_sewn - self.t_start, "settling_s": self.t_end - self.t_sewn,
+            "dressing_s": self.t_end - self.t_start,
+        }
