@@ -20,8 +20,9 @@ def test_bench_drape_json(capsys):
                  "--max-seconds", "0.3"]) == 0
     res = json.loads(capsys.readouterr().out)
     assert list(res) == ["fabrics"]
-    assert set(res["fabrics"]["denim"]) == {"dc", "h"}
+    assert set(res["fabrics"]["denim"]) == {"dc", "h", "nodes"}
     assert res["fabrics"]["denim"]["h"] == 0.03
+    assert isinstance(res["fabrics"]["denim"]["nodes"], int)
 
 
 def test_bench_bad_input_exits_2():

@@ -44,3 +44,18 @@ def test_the_drape_coefficient_does_not_depend_on_the_grid_beyond_0_02():
     fab = get_fabric("m3")
     dcs = [cusick_drape(fab, h=h, max_seconds=4.0).dc for h in (0.015, 0.02)]
     assert abs(dcs[0] - dcs[1]) <= 0.02, dcs
+
+
+@pytest.mark.parametrize("k", [4, 7, 9])
+def test_the_nodes_are_the_lobes_of_the_shadow(k):
+    """A hem r(θ) = 12 cm + 2 cm·cos(k(θ − θ₀)) seen from above, one lobe across θ = ±π: k
+    nodes; a round one with 1 mm of ripple: none; sampled as sparsely as a 2 cm grid's hem."""
+    from catwalk.cloth.drape import drape_nodes
+
+    rng = np.random.default_rng(k)
+    for n in (64, 2000):
+        theta = np.linspace(-np.pi, np.pi, n, endpoint=False)
+        for amp, expected in ((0.02, k), (0.0005, 0)):
+            r = 0.12 + amp * np.cos(k * (theta - np.pi)) + rng.uniform(0, 0.0005, n)
+            hem = np.column_stack([r * np.cos(theta), np.full(n, 0.4), r * np.sin(theta)])
+            assert drape_nodes(hem) == expected

@@ -1,6 +1,7 @@
 """``catwalk bench drape``: the Cusick drape test (30 cm specimen on an 18 cm support disc) for
 every fabric preset and the six measured fabrics of Petrak et al. 2025; prints each drape
-coefficient DC = (shadow − disc) / (specimen − disc) and the grid spacing h used."""
+coefficient DC = (shadow − disc) / (specimen − disc), its number of nodes (folds hanging
+outward: :func:`catwalk.cloth.drape.drape_nodes`) and the grid spacing h used."""
 
 from __future__ import annotations
 
@@ -32,7 +33,7 @@ def main(args) -> int:
         t0 = time.perf_counter()
         r = cusick_drape(fid, h=args.h, method=args.method, max_seconds=args.max_seconds)
         wall = time.perf_counter() - t0
-        out[fid] = {"dc": r.dc, "h": r.h}
+        out[fid] = {"dc": r.dc, "h": r.h, "nodes": r.nodes}
         rows.append((fid, get_fabric(fid).name, r, wall))
         if args.png:
             from catwalk.cloth.preview import render_cloth
@@ -44,10 +45,11 @@ def main(args) -> int:
         return 0
     print(f"Cusick drape: 30 cm specimen on an 18 cm disc, method {args.method}; "
           f"machine: {machine()}")
-    print(f"{'fabric':<15} {'DC':>6} {'h (m)':>7} {'sim s':>6} {'settled':>8} {'wall s':>7}  name")
+    print(f"{'fabric':<15} {'DC':>6} {'nodes':>5} {'h (m)':>7} {'sim s':>6} {'settled':>8} "
+          f"{'wall s':>7}  name")
     for fid, name, r, wall in rows:
-        print(f"{fid:<15} {r.dc:>6.3f} {r.h:>7.3f} {r.seconds:>6.2f} {str(r.settled):>8} "
-              f"{wall:>7.1f}  {name}")
+        print(f"{fid:<15} {r.dc:>6.3f} {r.nodes:>5} {r.h:>7.3f} {r.seconds:>6.2f} "
+              f"{str(r.settled):>8} {wall:>7.1f}  {name}")
     return 0
 
 

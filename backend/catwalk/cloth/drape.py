@@ -26,6 +26,13 @@ DISC_RADIUS = 0.09
 DISC_HEIGHT = 0.5
 
 
+#: a node is a lobe of the shadow's outline at least this far out beyond its neighbouring
+#: troughs (m) and this share of the outline's whole radial range
+NODE_PROMINENCE_M = 0.003
+NODE_PROMINENCE_SHARE = 0.15
+NODE_SMOOTH_DEG = 9
+
+
 @dataclass
 class DrapeResult:
     fabric: str
@@ -36,6 +43,7 @@ class DrapeResult:
     settled: bool
     model: ClothModel
     state: State
+    nodes: int = 0
 
 
 def shadow_area(model: ClothModel, positions: np.ndarray, pixel: float = 0.0005) -> float:
@@ -54,6 +62,46 @@ def drape_coefficient(model: ClothModel, positions: np.ndarray,
     disc = math.pi * disc_radius ** 2
     spec = math.pi * specimen_radius ** 2
     return (shadow_area(model, positions) - disc) / (spec - disc)
+
+
+def outline_profile(positions: np.ndarray, centre=(0.0, 0.0), bins: int = 360) -> np.ndarray:
+    """The shadow's outline as its radius (m) from ``centre`` (x, z) in each of ``bins`` equal
+    angles round it: the farthest point in each (empty bins filled from their neighbours)."""
+    dx = positions[:, 0] - centre[0]
+    dz = positions[:, 2] - centre[1]
+    r = np.hypot(dx, dz)
+    b = ((np.arctan2(dz, dx) + np.pi) / (2 * np.pi) * bins).astype(np.int64) % bins
+    prof = np.full(bins, np.nan)
+    np.fmax.at(prof, b, r)
+    ok = ~np.isnan(prof)
+    if not ok.any():
+        return np.zeros(bins)
+    idx = np.arange(bins)
+    return np.interp(idx, idx[ok], prof[ok], period=bins)
+
+
+def drape_nodes(hem: np.ndarray, centre=(0.0, 0.0)) -> int:
+    """The number of nodes (folds hanging outward) of a draped specimen from its ``hem`` (the
+    specimen's outline points): the lobes of the hem's outline seen from above
+    (:func:`outline_profile`, smoothed over ``NODE_SMOOTH_DEG`` degrees) that stand out from
+    the troughs on either side by ``NODE_PROMINENCE_M`` and by ``NODE_PROMINENCE_SHARE`` of the
+    outline's radial range. (The hem, not every point: a point inside the outline would read
+    as a dip in it.)"""
+    from scipy.signal import find_peaks
+
+    prof = outline_profile(hem, centre)
+    n = len(prof)
+    k = np.ones(NODE_SMOOTH_DEG) / NODE_SMOOTH_DEG
+    smooth = np.convolve(np.concatenate([prof[-NODE_SMOOTH_DEG:], prof,
+                                         prof[:NODE_SMOOTH_DEG]]), k, "same")
+    smooth = smooth[NODE_SMOOTH_DEG:NODE_SMOOTH_DEG + n]
+    spread = float(smooth.max() - smooth.min())
+    if spread <= 0:
+        return 0
+    # three turns round, so that a lobe across the start is seen whole; count the middle one
+    peaks, _ = find_peaks(np.tile(smooth, 3),
+                          prominence=max(NODE_PROMINENCE_M, NODE_PROMINENCE_SHARE * spread))
+    return int(np.count_nonzero((peaks >= n) & (peaks < 2 * n)))
 
 
 def cusick_drape(fabric, h: float = 0.01, method: str = "ordered", max_seconds: float = 6.0,
@@ -90,4 +138,5 @@ def cusick_drape(fabric, h: float = 0.01, method: str = "ordered", max_seconds: 
                 settled = True
                 break
     dc = drape_coefficient(model, state.positions, specimen_radius, disc_radius)
-    return DrapeResult(model.fabric.id, dc, h, state.time, state.steps, settled, model, state)
+    return DrapeResult(model.fabric.id, dc, h, state.time, state.steps, settled, model, state,
+                       drape_nodes(state.positions[model.boundary]))
