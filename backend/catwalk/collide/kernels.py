@@ -1012,7 +1012,7 @@ def max_displacement(a, b, idx):
 @numba.njit(cache=True, _nrt=False)
 def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, c1):
     """Draw one slot of the front and back depth maps (see :class:`~catwalk.collide.
-    collider._Maps`) of the triangles ``faces`` (over the mapped vertices ``idx`` of ``v``,
+    image_pass.DepthMaps`) of the triangles ``faces`` (over the mapped vertices ``idx`` of ``v``,
     with normals ``n`` and velocities ``w``), only within rows r0…r1 and columns c0…c1 (the
     region the cloth can reach): the region is cleared and every triangle facing the camera
     drawn into the front map (nearest kept), every triangle facing away into the back map
