@@ -85,8 +85,11 @@ def test_the_arm_swing_reaches_forward_as_asked(dressable_body):
         arm = dressable_body.parts == 1
         return float((v[:, arm, 2] - v[:, :, 2].mean(axis=1, keepdims=True)).max())
 
+    from catwalk.motion.gait import STYLES
+
+    assert stress.ARM_SWING_DEG[0] == STYLES["catwalk"].arm_swing_deg
     default, raised = hand_reach(None), hand_reach(90.0)
-    assert hand_reach(11.0) == default              # the catwalk style's own amplitude
+    assert hand_reach(stress.ARM_SWING_DEG[0]) == default   # the style's own amplitude
     assert raised > default + 0.3                   # an arm raised forward: ≈ its length
     with pytest.raises(InputError, match="arm swing must be within 0–90°"):
         walk_motion(dressable_body, 1.0, arm_swing_deg=-5.0)
