@@ -314,3 +314,49 @@ def test_held_points_get_their_contact_plane(mode):
     assert np.median(surface) == pytest.approx(R + T, abs=0.002)
     assert np.all(p[held, 4:7] == 0.0)   # a body standing still
     assert np.all(p[held, 7] == c.friction)
+
+
+@pytest.mark.parametrize("mode", MODES)
+def test_points_within_the_plane_band_get_a_plane_and_are_not_held(mode):
+    """With ``plane_band`` the points not held but within it of the surface get the same
+    kind of plane (the surface offset by the thickness: the solver keeps them behind it until
+    the next resolve); those beyond it none; held points keep their own."""
+    centre = np.array([0.0, 1.2, 0.0])
+    R = 0.15
+    band = 0.01
+    v, f = sphere(centre, R, 64, 32)
+    pos = _shell(2000, centre, R - 0.012, R + 0.04)
+    plain = make_collider(mode, f, np.zeros(len(v), np.int8))
+    banded = make_collider(mode, f, np.zeros(len(v), np.int8), plane_band=band)
+    for c in (plain, banded):
+        c.update(v)
+    a, b = pos.copy(), pos.copy()
+    held_a = plain.resolve(a, np.zeros_like(a), pos.copy())
+    held_b = banded.resolve(b, np.zeros_like(b), pos.copy())
+    # the band changes no point's answer, only which points get planes
+    assert np.array_equal(held_a, held_b) and np.array_equal(a, b)
+    assert np.array_equal(plain.planes[held_a], banded.planes[held_b])
+    r = np.linalg.norm(pos - centre, axis=1)
+    nl = np.linalg.norm(banded.planes[:, :3], axis=1)
+    near = ~held_b & (r < R + T + band - 0.002)
+    if mode != "object":
+        # the depth maps see a point's distance along the cameras' axis: beside the
+        # silhouette (the surface seen edge-on) a point within the band is not seen as near
+        near &= np.abs(pos[:, 2] - centre[2]) > 0.6 * r
+    far = r > R + T + band + 0.002
+    assert near.sum() > 100 and far.sum() > 100
+    assert np.allclose(nl[near], 1.0) and np.all(nl[far] == 0.0)
+    assert np.all(np.linalg.norm(plain.planes[~held_a, :3], axis=1) == 0.0)
+    # a near point's plane: the surface offset by the thickness, the point in front of it
+    p = banded.planes[near]
+    side = np.einsum("ij,ij->i", p[:, :3], pos[near]) - p[:, 3]
+    assert side.min() > 0.0
+    surface = p[:, 3] - np.einsum("ij,j->i", p[:, :3], centre)
+    assert np.median(surface) == pytest.approx(R + T, abs=0.002)
+
+
+def test_a_bad_plane_band_is_refused():
+    v, f = sphere(np.zeros(3), 0.1, 16, 8)
+    for bad in (-0.01, 0.2, float("nan")):
+        with pytest.raises(CatwalkError, match="plane_band"):
+            make_collider("object", f, np.zeros(len(v), np.int8), plane_band=bad)

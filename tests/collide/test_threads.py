@@ -82,3 +82,18 @@ def test_the_settings_reach_the_collider():
     assert c.threads == 2 and not any(vars(c.skips).values())
     with pytest.raises(InputError, match="skips must be true or false"):
         preset("balanced").with_(skips="no")
+
+
+def test_the_plane_band_reaches_the_walks_collider_only():
+    from catwalk.simulate import preset
+
+    s = preset("balanced").with_(plane_band=0.01)
+    body = mannequin_walk(n_frames=1, resolution=0.5)
+    walking = make_collider("object", body.faces, body.parts,
+                            **s.collider_options(walking=True))
+    dressing = make_collider("object", body.faces, body.parts, **s.collider_options())
+    assert walking.plane_band == 0.01 and dressing.plane_band == 0.0
+    assert preset("balanced").plane_band == 0.0   # off by default (docs/tryon.md)
+    for bad in (-0.001, 0.06, True):
+        with pytest.raises(InputError, match="plane_band must be within 0–0.05 m"):
+            preset("balanced").with_(plane_band=bad)

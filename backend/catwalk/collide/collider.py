@@ -39,6 +39,8 @@ PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
 #: an empty mask of points: a pass's ``only`` when it looks at every point, the image pass's
 #: ``edge`` when it leaves none to object space
 NO_MASK = np.zeros(0, bool)
+#: m: the widest band round the body in which points not held get contact planes
+MAX_PLANE_BAND = 0.05
 
 
 @dataclass
@@ -121,8 +123,10 @@ def _checked_body(body_faces, parts) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _checked_options(thickness, search_radius, max_depth, edge_normal_z, friction, threads,
-                     map_size) -> tuple[int, int]:
+                     map_size, plane_band) -> tuple[int, int]:
     """Raise on a bad option; returns the map size (width, height)."""
+    if not (np.isfinite(plane_band) and 0.0 <= plane_band <= MAX_PLANE_BAND):
+        raise InputError(f"plane_band must be within 0–{MAX_PLANE_BAND} m, got {plane_band!r}")
     for name, val in (("thickness", thickness), ("search_radius", search_radius),
                       ("max_depth", max_depth)):
         if not (np.isfinite(val) and val > 0):
@@ -162,10 +166,10 @@ class Collider:
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
                  map_region_pad=0.05, second_surface=True, skips: Skips | None = None,
-                 threads: int = 1):
+                 threads: int = 1, plane_band=0.0):
         faces, parts = _checked_body(body_faces, parts)
         self._map_size = _checked_options(thickness, search_radius, max_depth, edge_normal_z,
-                                          friction, threads, map_size)
+                                          friction, threads, map_size, plane_band)
         self._map_margin = float(map_margin)
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.parts = parts.astype(np.int8)
@@ -175,6 +179,8 @@ class Collider:
         self.thickness = float(thickness)
         self.friction = float(friction)
         self.contact_slack = float(contact_slack)
+        # points not held but within this of the surface get a contact plane too
+        self.plane_band = float(plane_band)
         self.search_radius = float(search_radius)
         self.max_depth = float(max_depth)
         self.reuse_tol = float(reuse_tol)
@@ -200,8 +206,9 @@ class Collider:
         self._thread_ws = [_workspace() for _ in range(self.threads - 1)]
         self.stats = np.zeros(K.N_STATS, np.int64)
         self._ws = _workspace(self.stats)   # the calling thread's
-        # (P, 8) after each resolve: the held points' contact planes (normal, offset, the
-        # body's velocity, friction; normal 0 for points not held), see kernels.record_plane
+        # (P, 8) after each resolve: the contact planes of the held points and of those within
+        # plane_band of the surface (normal, offset, the body's velocity, friction; normal 0
+        # for the others), see kernels.record_plane
         self.planes = np.zeros((0, PLANE_COLUMNS))
         self.timings = Timings()
         self._first_v = None          # the first pose given to update()
@@ -323,7 +330,8 @@ class Collider:
         ``velocities`` (float64 (P,3), C-contiguous) in place and returns the held mask (P,)
         bool. ``alpha``: the substep's time in [0, 1] between the previous and the current
         body frame (default: from the substep count, see :meth:`update`). Afterwards
-        :attr:`planes` holds each held point's contact plane (zero normal for the others)."""
+        :attr:`planes` holds the contact plane of each held point and of each point within
+        ``plane_band`` of the surface (zero normal for the others)."""
         if self.v1 is None:
             raise InputError("collider.update(body) must be called before resolve()")
         pos, vel = positions, velocities

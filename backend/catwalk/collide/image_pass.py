@@ -202,9 +202,10 @@ class ImagePass:
         def points(start, stop, stack, reach, spd, rec2, stats):
             K.image_pass(s.pos, s.vel, s.alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur,
                          mp.version, self.lo, self.hi, col.thickness, col.friction,
-                         col.contact_slack, col.min_normal_z, col.skips.far_points, held,
-                         stats, self._pkey, self._pdep, self._patt, col.planes, edge,
-                         col.edge_normal_z, self._pwin, start, stop)
+                         col.contact_slack, col.plane_band, col.min_normal_z,
+                         col.skips.far_points, held, stats, self._pkey, self._pdep,
+                         self._patt, col.planes, edge, col.edge_normal_z, self._pwin, start,
+                         stop)
 
         col._split(points, n)
         col.timings.image_queries += cpu_time() - t

@@ -43,7 +43,7 @@ STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clea
 ObjectTime = namedtuple("ObjectTime", "alpha alpha_prev frame ref clock body_speed")
 ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf")
 ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radius max_depth "
-                          "skip_far use_cache reuse_tol use_clear cert_reach second")
+                          "skip_far use_cache reuse_tol use_clear cert_reach second plane_band")
 ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
                           "pspeed pstamp last pclk csw crel cstamp ct2 cp2 cc2 left")
 Workspace = namedtuple("Workspace", "stack reach spd rec2 stats")
@@ -77,6 +77,16 @@ def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz,
     planes[i, 5] = bvy
     planes[i, 6] = bvz
     planes[i, 7] = friction
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def near_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
+    """Point i is not held but within the plane band of the surface: the same plane as
+    :func:`record_plane`, unless the point already has one (a held point's plane, or the
+    nearer surface's), so that between two responses the solver stops it at the surface
+    instead of the next response finding it inside."""
+    if planes[i, 0] == 0.0 and planes[i, 1] == 0.0 and planes[i, 2] == 0.0:
+        record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -319,9 +329,10 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     (:data:`ObjectBody`: the packed body ``vb``/``vp``, ``faces``, ``face_part``, the
     hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``), ``cfg``
     (:data:`ObjectConfig`: thickness, friction, contact slack, search radius, max depth, which
-    skips are on, ``reuse_tol``, ``cert_reach``, ``second``), ``pts`` (:data:`ObjectPoints`:
-    what is kept per point between calls, below) and ``ws`` (:data:`Workspace`: a thread's
-    ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``). ``held`` (P,) bool and
+    skips are on, ``reuse_tol``, ``cert_reach``, ``second``, ``plane_band``), ``pts``
+    (:data:`ObjectPoints`: what is kept per point between calls, below) and ``ws``
+    (:data:`Workspace`: a thread's ``stack``, ``reach``, ``spd``, ``rec2`` and counters
+    ``stats``). ``held`` (P,) bool and
     ``planes`` (P,8) are written for the points seen; ``part_active`` (parts,) bool and
     ``cloth_lo``/``cloth_hi`` (the cloth's box) select the parts looked at.
 
@@ -373,7 +384,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
 
     ``planes`` (P,8): for each held point its contact plane, written as it is found (the unit
     normal, the offset of the surface plus the thickness, the body's velocity, the friction
-    coefficient; :func:`record_plane`).
+    coefficient; :func:`record_plane`); for each point looked at, not held but within
+    ``plane_band`` of touching, the same plane unless it has one (:func:`near_plane`).
 
     ``only`` (P,) bool: when not empty, only the points marked are seen (the others are
     left as they are, their clocks too: their next motion counts everything since).
@@ -388,7 +400,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     alpha, alpha_prev, frame, ref, clock, body_speed = now
     vb, vp, faces, face_part, nb, links, tris, roots, lf = body
     (thickness, friction, slack, search_radius, max_depth, skip_far, use_cache, reuse_tol,
-     use_clear, cert_reach, second) = cfg
+     use_clear, cert_reach, second, plane_band) = cfg
     (cache_tri, cache_p, cache_c, clear, clear_rel, rkey, rec, pspeed, pstamp, last, pclk, csw,
      crel, cstamp, ct2, cp2, cc2, left) = pts
     stack, reach, spd, rec2, stats = ws
@@ -659,6 +671,10 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 cache_p[i, 2] = pz
         s, nx, ny, nz, bv, bw = _signed_rec(px, py, pz, rec, i, alpha)
         if s >= touch:
+            if s < touch + plane_band:
+                bvx, bvy, bvz = _rec_velocity(rec, i, alpha, bv, bw)
+                near_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz,
+                           friction)
             if use_clear and searched and best_d2 < np.inf:
                 # outside: no triangle nearer than √best_d2 now (a point inside has none)
                 clear_rel[i] = math.sqrt(best_d2) - touch
@@ -714,8 +730,8 @@ def _window_covered(D, i0, j0, s0, s1, h, w):
 
 @numba.njit(cache=True, _nrt=False, nogil=True)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
-               slack, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge, edge_nz,
-               pwin, start, stop):
+               slack, plane_band, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge,
+               edge_nz, pwin, start, stop):
     """Image-space collision of the cloth points ``start`` … ``stop`` − 1 against front/back
     depth maps at time ``alpha`` between the previous (slot ``s0``) and the current (slot
     ``s1``) frame's maps (a point's work writes only its own entries and ``stats``: disjoint
@@ -746,7 +762,11 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     ``pwin`` (P,) int8: each point's "covered pixel in the window" for its cached block
     (−1: not needed yet; looked at only for blocks not fully covered).
     Empty ``edge``: the paper's image space, where such points are answered by the maps
-    (the normal leaned towards the view axis at the silhouette)."""
+    (the normal leaned towards the view axis at the silhouette).
+
+    ``planes`` (P,8): each held point's contact plane (:func:`record_plane`), and the same for
+    each point not held but within ``plane_band`` of touching, unless it has one
+    (:func:`near_plane`)."""
     h = D.shape[0]
     w = D.shape[1]
     cx = m[2, 0]
@@ -942,6 +962,9 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         # signed distance to the surface's tangent plane at the pixel (p − S)·n
         s = (z - zf) * ndc if front else (zb - z) * ndc
         if s >= thickness + slack:
+            if s < thickness + slack + plane_band:
+                near_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], nx, ny, nz, s,
+                           thickness, bvx, bvy, bvz, friction)
             continue
         held[i] = True
         n_contact += 1

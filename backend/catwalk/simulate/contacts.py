@@ -1,7 +1,8 @@
-"""Contacts: what a detection returns — the cloth points held at this response and each one's
-contact plane — from each contact source (the body's collider, the catwalk's floor), merged,
-and kept in the cloth :class:`~catwalk.cloth.model.State` until the next response (the solver
-keeps every held point on its plane's side in between: docs/cloth.md)."""
+"""Contacts: what a detection returns — the cloth points held at this response and the contact
+planes of those points and of the points near the body (within the collider's ``plane_band``)
+— from each contact source (the body's collider, the catwalk's floor), merged, and kept in the
+cloth :class:`~catwalk.cloth.model.State` until the next response (the solver keeps every
+point with a plane on its side in between: docs/cloth.md)."""
 
 from __future__ import annotations
 
@@ -14,10 +15,11 @@ from catwalk.cloth.model import PLANE_COLUMNS, State
 
 
 class Contacts(NamedTuple):
-    """``held`` (P,) bool: the points in contact. ``planes``: their contact planes — (P,
+    """``held`` (P,) bool: the points in contact. ``planes``: the contact planes — (P,
     ``PLANE_COLUMNS``) rows (unit normal, offset c: outside while n·x ≥ c, the surface's
-    velocity, the friction coefficient; a zero normal where not held), or one row shared by
-    every held point, or None when the source gives none."""
+    velocity, the friction coefficient) for the held points and those near the body, a zero
+    normal for the others; or one row shared by every held point; or None when the source
+    gives none."""
 
     held: np.ndarray
     planes: np.ndarray | None
@@ -66,8 +68,9 @@ class Floor:
 
 def keep(state: State, *sources: Contacts) -> None:
     """The state takes the contacts of ``sources``, in priority order (the body, then the
-    floor): held by any; a point several hold keeps the first one's plane; no planes when the
-    first source gives none."""
+    floor): held by any; a point several hold keeps the first one's plane (a point the first
+    gives a plane without holding it takes a later source's that holds it); no planes when
+    the first source gives none."""
     first = sources[0]
     held = first.held.copy()
     for c in sources[1:]:

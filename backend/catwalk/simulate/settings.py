@@ -20,6 +20,10 @@ class Settings:
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
     the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame,
+    ``plane_band`` (m): in the walk, points not held but within this of the body's surface
+    get a contact plane at each resolve too, which the solver keeps them behind until the
+    next (0, the default: planes for the held points only; docs/tryon.md "How many responses
+    a frame" has what 1 cm buys and why it is off),
     ``skips`` the collider's work-saving skips (:class:`~catwalk.collide.collider.Skips`) all
     on, or all off (the reference of ``catwalk bench pareto``), ``threads`` the threads the
     collider's object and image passes split the cloth's points over (one try-on on a machine
@@ -50,6 +54,7 @@ class Settings:
     friction: float | None = None
     max_move: float = 0.01
     min_collisions: int = 10
+    plane_band: float = 0.0
     max_collisions: int = 60
     sew_collisions: int = 10
     settle_collisions: int = 5
@@ -90,17 +95,23 @@ class Settings:
             raise InputError("need 1 <= min_collisions <= max_collisions")
         if self.sew_collisions < 1 or self.settle_collisions < 1:
             raise InputError("sew_collisions and settle_collisions must be >= 1")
+        if isinstance(self.plane_band, bool) or \
+                not isinstance(self.plane_band, (int, float)) or not 0 <= self.plane_band <= 0.05:
+            raise InputError(f"setting plane_band must be within 0–0.05 m, got "
+                             f"{self.plane_band!r}")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
 
-    def collider_options(self) -> dict:
+    def collider_options(self, walking: bool = False) -> dict:
         """The keyword arguments of :func:`~catwalk.collide.make_collider` these settings
-        fix (friction is the caller's: the fabric's, or none while sewing)."""
+        fix (friction is the caller's: the fabric's, or none while sewing); ``walking``: the
+        walk's collider (with ``plane_band``)."""
         from catwalk.collide import Skips
 
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
-                "skips": None if self.skips else Skips.off(), "threads": self.threads}
+                "skips": None if self.skips else Skips.off(), "threads": self.threads,
+                "plane_band": self.plane_band if walking else 0.0}
 
     def with_(self, **changes) -> Settings:
         """A copy with some settings changed (None values are ignored)."""

@@ -123,7 +123,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     model, state = dressed.model, dressed.state.copy()
     friction = dressed.cloth.fabric.friction if settings.friction is None else settings.friction
     collider = make_collider(settings.collider, body.faces, body.parts, friction=friction,
-                             **settings.collider_options())
+                             **settings.collider_options(walking=True))
     collider.update(verts[0].astype(np.float64), vels[0].astype(np.float64))
     solver = _solver(dressed, settings)
     tally = _Tally(BodySurface(body.faces, len(body.vertices)) if measure else None)
