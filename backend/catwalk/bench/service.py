@@ -30,6 +30,7 @@ import threading
 import time
 from pathlib import Path
 
+from catwalk.bench import check_walk_seconds
 from catwalk.errors import InputError, SimulationError
 
 GARMENT = "pencil-skirt"
@@ -236,8 +237,7 @@ def main(args) -> int:
         raise InputError(f"--tryons must be at least 1, got {args.tryons}")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"--workers must be at least 1, got {args.workers}")
-    if not 0.5 <= args.seconds <= 10:
-        raise InputError(f"--seconds must be within 0.5–10, got {args.seconds}")
+    check_walk_seconds(args.seconds)
     log = None if args.json else (lambda m: print(f"bench service: {m}", file=sys.stderr))
     r = run(args.tryons, args.workers or 1, args.seconds, log)
     print(json.dumps(r, indent=2) if args.json else format_table(r))

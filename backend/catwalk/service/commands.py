@@ -78,6 +78,8 @@ def _bench_service(args) -> int:
 
 
 def register(top, groups) -> None:
+    from catwalk.bench import add_walk_seconds
+
     p = top.add_parser("serve", help="the service: the API and local workers on this machine",
                        description="Run the HTTP API (and, unless --workers 0, a worker "
                        "process). With no CATWALK_DATABASE_URL / CATWALK_BROKER_URL set: "
@@ -131,7 +133,7 @@ def register(top, groups) -> None:
     p.add_argument("--tryons", type=int, default=4, help="concurrent fast try-ons (4)")
     p.add_argument("--workers", type=int, default=None,
                    help="try-ons the service under test runs at once (default 1)")
-    p.add_argument("--seconds", type=float, default=2.0, help="walk length of each (2)")
+    add_walk_seconds(p)
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_service)
 
