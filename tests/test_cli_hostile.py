@@ -319,3 +319,12 @@ def test_no_stray_files_from_a_probe(work, capsys):
     before = set(os.listdir(work))
     check_writable(work / "out.json", "-o")
     assert set(os.listdir(work)) == before
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--plane-band", "0.2"], "plane_band must be within 0–0.05 m, got 0.2"),
+    (["--min-collisions", "0"], "need 1 <= min_collisions <= max_collisions"),
+    (["--max-move", "-0.01"], "setting max_move must be a positive number"),
+    (["--seconds", "20"], "--seconds must be within 0.5–10")])
+def test_bench_paper_refuses_bad_walk_settings_before_any_work(work, capsys, args, message):
+    refused(["bench", "paper", "--json", *args], capsys, work, message)

@@ -8,6 +8,11 @@ speed comes with its error: max and 99th-percentile penetration (independent che
 :mod:`catwalk.simulate.metrics`) and max strain. The paper's figure-10 case (a forearm across
 the torso, a panel over it) is measured on the capsule mannequin: how far one resolve moves the
 panel in image space against hybrid.
+
+``walk``: settings the scene's walks take instead of ``balanced``'s (the command's
+``--plane-band``, ``--min-collisions``, ``--max-move``: how many collision responses a frame
+and the plane band, docs/tryon.md "How many responses a frame"); the dressing and the 4 s
+try-on keep the preset's.
 """
 
 from __future__ import annotations
@@ -58,16 +63,18 @@ def paper_inputs(seconds: float):
 
 
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
-        progress=None, threads: int = 2) -> dict:
+        progress=None, threads: int = 2, walk: dict | None = None) -> dict:
     from catwalk.bench import cpu_model
     from catwalk.bench.collide import figure10_displacement
     from catwalk.cloth.solver import ClothExplosionError
     from catwalk.simulate import dress, preset
-    from catwalk.simulate.walking import walk
+    from catwalk.simulate.walking import walk as walk_on
 
+    preset("balanced").with_(**(walk or {}))   # the walks' settings checked before any work
     garment, body, motion = paper_inputs(seconds)
     h, _ = choose_h(garment, body, size)
     settings = preset("balanced").with_(h=h)
+    walking = settings.with_(**(walk or {}))
     t0 = time.perf_counter()
     dressed = dress(body, garment, size, settings=settings, progress=progress)
     sewing_s = time.perf_counter() - t0
@@ -82,18 +89,18 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
         "sewing_s": round(sewing_s, 3), "sewing_warm_s": round(sewing_warm_s, 3),
         "sewing": {k: dressed.stats[k] for k in ("sewing_s", "settling_s", "sewing_sim_s",
                                                  "settle_sim_s", "settled", "seam_gap_m")},
-        "frames": motion.frames, "paper": PAPER, "target": TARGET,
+        "frames": motion.frames, "paper": PAPER, "target": TARGET, "walk_settings": walk or {},
     }
     for mode in modes:
         try:
-            w = walk(body, motion, dressed, settings.with_(collider=mode), progress=progress)
+            w = walk_on(body, motion, dressed, walking.with_(collider=mode), progress=progress)
         except ClothExplosionError as exc:
             out[mode] = {"exploded": str(exc)}
             continue
         s = w.stats
         out[mode] = {
             "ms_per_frame": round(s["ms_per_frame"]["collider"] + s["ms_per_frame"]["cloth"], 2),
-            **_threaded(body, motion, dressed, settings.with_(collider=mode), threads, w),
+            **_threaded(body, motion, dressed, walking.with_(collider=mode), threads, w),
             "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
             "max_penetration_mm": round(s["max_penetration_mm"], 2),
             "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
@@ -219,6 +226,13 @@ def register(bench) -> None:
     p.add_argument("--threads", type=int, default=2,
                    help="also walk each mode with the collider's object and image passes "
                    "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
+    p.add_argument("--plane-band", type=float, default=None, metavar="M",
+                   help="the walks' plane band in metres (default: balanced's, 0)")
+    p.add_argument("--min-collisions", type=int, default=None, metavar="N",
+                   help="the walks' least collision responses a frame (default: balanced's)")
+    p.add_argument("--max-move", type=float, default=None, metavar="M",
+                   help="the walks' body motion between two responses, m (default: "
+                   "balanced's)")
     add_output_flags(p)
     p.set_defaults(func=main)
 
@@ -236,7 +250,10 @@ def main(args) -> int:
         # each stage of each run from 0 to 100 %
         r = run(args.seconds, tuple(args.modes),
                 progress=lambda stage, i, total: bar(i / total if total else 1.0, stage),
-                threads=args.threads)
+                threads=args.threads,
+                walk={k: v for k, v in (("plane_band", args.plane_band),
+                                        ("min_collisions", args.min_collisions),
+                                        ("max_move", args.max_move)) if v is not None})
     finally:
         bar.done()
     print(json.dumps(r, indent=2) if args.json else format_table(r))

@@ -87,14 +87,12 @@ def drape_nodes(hem: np.ndarray, centre=(0.0, 0.0)) -> int:
     the troughs on either side by ``NODE_PROMINENCE_M`` and by ``NODE_PROMINENCE_SHARE`` of the
     outline's radial range. (The hem, not every point: a point inside the outline would read
     as a dip in it.)"""
+    from scipy.ndimage import uniform_filter1d
     from scipy.signal import find_peaks
 
     prof = outline_profile(hem, centre)
     n = len(prof)
-    k = np.ones(NODE_SMOOTH_DEG) / NODE_SMOOTH_DEG
-    smooth = np.convolve(np.concatenate([prof[-NODE_SMOOTH_DEG:], prof,
-                                         prof[:NODE_SMOOTH_DEG]]), k, "same")
-    smooth = smooth[NODE_SMOOTH_DEG:NODE_SMOOTH_DEG + n]
+    smooth = uniform_filter1d(prof, NODE_SMOOTH_DEG, mode="wrap")   # round the full turn
     spread = float(smooth.max() - smooth.min())
     if spread <= 0:
         return 0

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, replace
 
 from catwalk.collide import MODES
+from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
 
 
@@ -96,8 +97,9 @@ class Settings:
         if self.sew_collisions < 1 or self.settle_collisions < 1:
             raise InputError("sew_collisions and settle_collisions must be >= 1")
         if isinstance(self.plane_band, bool) or \
-                not isinstance(self.plane_band, (int, float)) or not 0 <= self.plane_band <= 0.05:
-            raise InputError(f"setting plane_band must be within 0–0.05 m, got "
+                not isinstance(self.plane_band, (int, float)) or \
+                not 0 <= self.plane_band <= MAX_PLANE_BAND:
+            raise InputError(f"setting plane_band must be within 0–{MAX_PLANE_BAND} m, got "
                              f"{self.plane_band!r}")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
