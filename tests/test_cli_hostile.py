@@ -328,3 +328,10 @@ def test_no_stray_files_from_a_probe(work, capsys):
     (["--seconds", "20"], "--seconds must be within 0.5–10")])
 def test_bench_paper_refuses_bad_walk_settings_before_any_work(work, capsys, args, message):
     refused(["bench", "paper", "--json", *args], capsys, work, message)
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--plane-band", "0.2"], "plane_band must be within 0–0.05 m, got 0.2"),
+    (["--min-collisions", "0"], "need 1 <= min_collisions <= max_collisions")])
+def test_bench_stress_refuses_bad_walk_settings_before_any_work(work, capsys, args, message):
+    refused(["bench", "stress", "--axes", "garment", "--json", *args], capsys, work, message)

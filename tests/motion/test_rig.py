@@ -97,6 +97,40 @@ def test_weights_and_parts(neutral_body):
     assert np.all(b.parts[v[:, 1] > 1.45] == 0)
 
 
+def test_armpit_weights_are_diffused(neutral_body):
+    from catwalk.body.makehuman import body_triangles
+    from catwalk.body.rig import armpit_seam, skin_weights, vertex_adjacency
+
+    b = neutral_body
+    names = b.skeleton.names
+
+    def dense(joints, weights):
+        d = np.zeros((len(joints), len(names)))
+        for k in range(4):
+            np.add.at(d, (np.arange(len(joints)), joints[:, k].astype(int)), weights[:, k])
+        return d
+
+    raw_joints, raw_weights, raw_parts = skin_weights(names, armpit_smoothing=0)
+    raw = dense(raw_joints, raw_weights)
+    smooth = dense(b.skin_joints, b.skin_weights)
+    moved = np.abs(raw - smooth).max(axis=1) > 1e-6
+    tri = body_triangles()
+    seam = armpit_seam(tri, raw_parts)
+    adj = vertex_adjacency(tri, len(raw))
+    near = seam.copy()
+    for _ in range(4):
+        near |= (adj @ near.astype(float)) > 0
+    # only round the armpits (and the shoulders' tops, the same seam), and there
+    assert moved.any() and not moved[~near].any()
+    assert np.allclose(smooth.sum(axis=1), 1.0, atol=1e-5)
+    # the upper arm's weight changes by less from one vertex to the next across the seam
+    ua = names.index("upperarm_l")
+    e = np.argwhere(adj.multiply(near[:, None] & near[None, :]))
+    jump_raw = np.abs(raw[e[:, 0], ua] - raw[e[:, 1], ua]).max()
+    jump = np.abs(smooth[e[:, 0], ua] - smooth[e[:, 1], ua]).max()
+    assert jump < 0.6 * jump_raw, (jump, jump_raw)
+
+
 def test_part_of_bone():
     assert part_of_bone("upperarm_l") == PART_LEFT_ARM
     assert part_of_bone("middle_03_r") == PART_RIGHT_ARM

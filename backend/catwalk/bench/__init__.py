@@ -38,6 +38,32 @@ def add_walk_seconds(parser, default: float = 2.0) -> None:
                         help=f"walk length (default {default:g}; 0.5–10)")
 
 
+def add_walk_settings(parser) -> None:
+    """``--plane-band``, ``--min-collisions``, ``--max-move``: the walks' collision responses a
+    frame and plane band (docs/tryon.md, "How many responses a frame"; read by
+    :func:`walk_settings`)."""
+    parser.add_argument("--plane-band", type=float, default=None, metavar="M",
+                        help="the walks' plane band in metres (default: balanced's, 0)")
+    parser.add_argument("--min-collisions", type=int, default=None, metavar="N",
+                        help="the walks' least collision responses a frame (default: "
+                        "balanced's)")
+    parser.add_argument("--max-move", type=float, default=None, metavar="M",
+                        help="the walks' body motion between two responses, m (default: "
+                        "balanced's)")
+
+
+def walk_settings(args) -> dict:
+    """The :func:`add_walk_settings` flags given, as :class:`~catwalk.simulate.Settings`
+    fields, checked against the ``balanced`` preset (:class:`~catwalk.errors.InputError`)."""
+    from catwalk.simulate import preset
+
+    out = {k: v for k, v in (("plane_band", args.plane_band),
+                             ("min_collisions", args.min_collisions),
+                             ("max_move", args.max_move)) if v is not None}
+    preset("balanced").with_(**out)
+    return out
+
+
 def check_walk_seconds(seconds: float) -> None:
     """Refuse a walk length outside 0.5–10 s (:class:`~catwalk.errors.InputError`)."""
     from catwalk.errors import InputError

@@ -212,7 +212,7 @@ def _tryon_line(r: dict) -> str:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags, add_walk_seconds
+    from catwalk.bench import add_output_flags, add_walk_seconds, add_walk_settings
 
     p = bench.add_parser(
         "paper", help="the seed's table side by side: sewing the dress, walking it with the "
@@ -226,19 +226,13 @@ def register(bench) -> None:
     p.add_argument("--threads", type=int, default=2,
                    help="also walk each mode with the collider's object and image passes "
                    "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
-    p.add_argument("--plane-band", type=float, default=None, metavar="M",
-                   help="the walks' plane band in metres (default: balanced's, 0)")
-    p.add_argument("--min-collisions", type=int, default=None, metavar="N",
-                   help="the walks' least collision responses a frame (default: balanced's)")
-    p.add_argument("--max-move", type=float, default=None, metavar="M",
-                   help="the walks' body motion between two responses, m (default: "
-                   "balanced's)")
+    add_walk_settings(p)
     add_output_flags(p)
     p.set_defaults(func=main)
 
 
 def main(args) -> int:
-    from catwalk.bench import check_walk_seconds
+    from catwalk.bench import check_walk_seconds, walk_settings
     from catwalk.errors import InputError
     from catwalk.simulate.commands import ProgressBar
 
@@ -251,9 +245,7 @@ def main(args) -> int:
         r = run(args.seconds, tuple(args.modes),
                 progress=lambda stage, i, total: bar(i / total if total else 1.0, stage),
                 threads=args.threads,
-                walk={k: v for k, v in (("plane_band", args.plane_band),
-                                        ("min_collisions", args.min_collisions),
-                                        ("max_move", args.max_move)) if v is not None})
+                walk=walk_settings(args))
     finally:
         bar.done()
     print(json.dumps(r, indent=2) if args.json else format_table(r))

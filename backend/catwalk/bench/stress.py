@@ -20,6 +20,9 @@ over every pair of values of two axes (``--grid A B``):
 * ``garment``: every catalogue garment;
 * ``long``: the default scene walked for ``--long-seconds``.
 
+``--collider`` changes every cell's collider; ``--plane-band``, ``--min-collisions``,
+``--max-move`` every cell's walk (not its dressing), as in ``catwalk bench paper``.
+
 Each cell reports: ``status`` (``ok``, ``exploded`` with the solver's message — a blow-up is
 always an error naming the step and the point, never NaN in a result — or ``refused`` with the
 message a user gets), the max and 99th-percentile penetration (independent check), max and
@@ -86,8 +89,10 @@ def blow_up_time(body, dressed, safety: float, seconds: float = 0.5) -> dict:
 
 
 def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE_SPEED,
-         seconds: float = 1.0, arm_swing_deg: float | None = None) -> dict:
-    """Dress and walk one variant; its errors (module docstring)."""
+         seconds: float = 1.0, arm_swing_deg: float | None = None,
+         walk_settings: dict | None = None) -> dict:
+    """Dress and walk one variant; its errors (module docstring). ``walk_settings``: fields
+    of ``settings`` changed for the walk alone (not the dressing)."""
     import numpy as np
 
     from catwalk.cloth.solver import ClothExplosionError
@@ -98,6 +103,7 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
 
     try:
         settings = settings.check()
+        walking = settings.with_(**(walk_settings or {}))
         motion = walk_motion(body, seconds, speed=speed, style="catwalk",
                              arm_swing_deg=arm_swing_deg)
     except InputError as exc:
@@ -105,7 +111,7 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
     t0 = time.perf_counter()
     try:
         dressed = dress(body, garment, size, fabric=fabric, settings=settings)
-        w = walk(body, motion, dressed, settings)
+        w = walk(body, motion, dressed, walking)
     except ClothExplosionError as exc:
         return {"status": "exploded", "message": str(exc),
                 "seconds": round(time.perf_counter() - t0, 1)}
@@ -140,11 +146,12 @@ ALL_AXES = ("step", "stiffness", "speed", "arms", "garment", "long")
 
 def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
         progress=None, collider: str | None = None, sizes=("M",),
-        grid: tuple[str, str] | None = None) -> dict:
+        grid: tuple[str, str] | None = None, walk: dict | None = None) -> dict:
     """The runs of the module docstring on the ``balanced`` preset (its ``collider`` changed if
-    given): each of ``axes`` varied alone, then, if ``grid`` names two of :data:`AXES`, every
-    pair of their values. The garment axis walks each catalogue garment in each of ``sizes``
-    it has (the default scene's garment in M, or its middle size). A cell asked twice (the
+    given; ``walk``: fields changed for the walks alone, as ``bench paper``'s): each of
+    ``axes`` varied alone, then, if ``grid`` names two of :data:`AXES`, every pair of their
+    values. The garment axis walks each catalogue garment in each of ``sizes`` it has (the
+    default scene's garment in M, or its middle size). A cell asked twice (the
     default scene is each axis's 1× cell) is simulated once."""
     from catwalk.bench import cpu_model
     from catwalk.errors import InputError
@@ -161,11 +168,12 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
         raise InputError(f"--grid takes two different axes of {', '.join(AXES)}, got "
                          f"{' '.join(grid)}", "grid")
     base = preset("balanced").with_(collider=collider)
-    scene = _Scene(base, files)
+    scene = _Scene(base, files, walk or {})
     g = scene.garment(garment_name)
     size = "M" if "M" in g.sizes else g.sizes[len(g.sizes) // 2]
     out = {"machine": {"cpu": cpu_model(), "threads": 1}, "garment": garment_name,
-           "size": size, "preset": base.name, "collider": base.collider, "cells": []}
+           "size": size, "preset": base.name, "collider": base.collider,
+           "walk_settings": walk or {}, "cells": []}
 
     def add(axis, value, result):
         progress(f"{axis} {value}: {result['status']}")
@@ -212,8 +220,8 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
 class _Scene:
     """The catalogue's garments and sample bodies, loaded once, and the cells already run."""
 
-    def __init__(self, base, files):
-        self.base, self.files = base, files
+    def __init__(self, base, files, walk=None):
+        self.base, self.files, self.walk = base, files, walk or {}
         self.garments, self.bodies, self.memo = {}, {}, {}
 
     def garment(self, name):
@@ -249,7 +257,8 @@ class _Scene:
             settings = self.base if step == 1.0 else \
                 replace(self.base, step_safety=BASE_SAFETY * step)
             self.memo[key] = cell(self.body(g, size), g, size, settings, fabric=fab,
-                                  speed=BASE_SPEED * speed, seconds=seconds, arm_swing_deg=arms)
+                                  speed=BASE_SPEED * speed, seconds=seconds, arm_swing_deg=arms,
+                                  walk_settings=self.walk)
         return dict(self.memo[key])
 
 
@@ -304,7 +313,7 @@ def grid_table(r: dict) -> list[str]:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags
+    from catwalk.bench import add_output_flags, add_walk_settings
 
     p = bench.add_parser(
         "stress", help="stability across the range: time step, stiffness, walking speed, "
@@ -324,12 +333,13 @@ def register(bench) -> None:
                    help="the collider of every cell (default: the preset's, object)")
     p.add_argument("--sizes", nargs="+", default=["M"],
                    help="the sizes the garment axis walks (default M)")
+    add_walk_settings(p)
     add_output_flags(p)
     p.set_defaults(func=main)
 
 
 def main(args) -> int:
-    from catwalk.bench import progress_lines
+    from catwalk.bench import progress_lines, walk_settings
     from catwalk.errors import InputError
 
     if not 1.0 <= args.long_seconds <= 400.0:
@@ -337,6 +347,6 @@ def main(args) -> int:
     axes = args.axes if args.axes is not None else (() if args.grid else ALL_AXES)
     r = run(args.garment, tuple(axes), args.long_seconds, progress=progress_lines(args),
             collider=args.collider, sizes=tuple(args.sizes),
-            grid=tuple(args.grid) if args.grid else None)
+            grid=tuple(args.grid) if args.grid else None, walk=walk_settings(args))
     print(json.dumps(r, indent=2) if args.json else format_table(r))
     return 0

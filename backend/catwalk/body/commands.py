@@ -52,14 +52,18 @@ def load_recipes(path: Path | None = None) -> list[dict]:
 
 def sample_body(name: str, out_dir: Path | None = None):
     """The sample body ``name`` (a recipe in bodies/recipes.json, e.g. ``female-M``), made once
-    and kept in ``bodies/generated/`` (git-ignored) for the next call."""
+    and kept in ``bodies/generated/`` (git-ignored) for the next call; made again where the
+    kept one's skin weights were made another way (its meta's ``"skin"``)."""
     from catwalk.body.make import make_body
+    from catwalk.body.rig import SKIN_RECIPE
     from catwalk.exchange.gltf import read_body, write_glb
 
     out = Path(out_dir) if out_dir is not None else recipes_path().parent / "generated"
     path = out / f"{name}.glb"
     if path.is_file():
-        return read_body(path)
+        kept = read_body(path)
+        if kept.meta.get("skin") == SKIN_RECIPE:
+            return kept
     recipe = next((r for r in load_recipes() if r["name"] == name), None)
     if recipe is None:
         raise InputError(f"no sample body named {name!r} in {recipes_path()}")

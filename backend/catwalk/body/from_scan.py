@@ -260,7 +260,7 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
     default: the call); ``cancel()`` is asked after each stage and before every non-rigid
     round (:class:`~catwalk.errors.Cancelled`)."""
     from catwalk.body.measure import measure_body
-    from catwalk.body.rig import build_rig
+    from catwalk.body.rig import SKIN_RECIPE, build_rig
 
     clock = _Clock(progress, cancel, t0)
     scan_faces, floor = without_floor(scan.vertices, scan.faces)
@@ -310,7 +310,7 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
             "measured": {k: float(val) for k, val in mb.items() if isinstance(val, (int, float))},
             "registration": {k: report[k] for k in ("scan_to_body_mm", "body_to_scan_mm",
                                                     "coverage")},
-            "rig": "game_engine"}
+            "rig": "game_engine", "skin": SKIN_RECIPE}
     body = Body(vertices=verts, faces=faces, parts=parts, skeleton=skeleton, skin_joints=joints,
                 skin_weights=weights, landmarks=landmarks, meta=meta)
     return body, report

@@ -308,7 +308,7 @@ def make_body(sex: str, height: float, bust: float | None = None, waist: float |
               rig: str = "game_engine") -> Body:
     """A rigged body (glTF metres, feet on y = 0, facing +Z) fitted to the measurements."""
     from catwalk.body.measure import measure_body
-    from catwalk.body.rig import build_rig
+    from catwalk.body.rig import SKIN_RECIPE, build_rig
 
     req = BodyRequest(sex=sex, height=height, bust=bust, waist=waist, hips=hips,
                       underbust=underbust)
@@ -323,6 +323,6 @@ def make_body(sex: str, height: float, bust: float | None = None, waist: float |
                           if getattr(req, k) is not None},
             "measured": {k: float(val) for k, val in m.items()
                          if isinstance(val, (int, float))},
-            "fit": report, "rig": rig}
+            "fit": report, "rig": rig, "skin": SKIN_RECIPE}
     return Body(vertices=verts, faces=faces, parts=parts, skeleton=skeleton,
                 skin_joints=joints, skin_weights=weights, landmarks=landmarks, meta=meta)

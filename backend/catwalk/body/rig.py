@@ -10,10 +10,16 @@ are therefore computed in Blender axes and only then turned into glTF axes (+Y u
 ``(x, y, z)_gltf = (x_b, z_b, −y_b)``.
 
 Skin weights (``weights.<name>.json``, sparse ``bone -> [[vertex, w], …]``) are reduced to the
-4 largest per body vertex and renormalised. The body part of a vertex is the part whose bones
-carry the largest summed weight: torso + head 0, left arm 1, right arm 2, left leg 3, right
-leg 4 (left = the body's own left = +X; an arm is the upper arm and below, a leg the thigh and
-below; clavicles belong to the torso).
+4 largest per body vertex and renormalised. Round each armpit they are first diffused
+(``ARMPIT_RINGS`` edge rings either side of the seam between the torso and the arm, averaged
+with their neighbours ``ARMPIT_SMOOTHING`` times): MakeHuman's own weights change from the
+spine to the upper arm within a ring or two, and with the arms lowered from the A-pose to the
+walk's linear blend skinning folds the armpit over itself — 10–15 triangles round the base
+bodies' armpits turned inside out, the arm's skin crossing into the torso's, and cloth there
+caught in a crease it cannot leave (docs/motion.md, "The rig"). The body part of a vertex is
+the part whose bones carry the largest summed weight: torso + head 0, left arm 1, right arm 2, left
+leg 3, right leg 4 (left = the body's own left = +X; an arm is the upper arm and below, a leg
+the thigh and below; clavicles belong to the torso).
 """
 
 from __future__ import annotations
@@ -21,8 +27,9 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
+import scipy.sparse as sp
 
-from catwalk.body.makehuman import BODY_VERTEX_COUNT, load_base_mesh, load_json
+from catwalk.body.makehuman import BODY_VERTEX_COUNT, body_triangles, load_base_mesh, load_json
 from catwalk.body.types import (
     PART_LEFT_ARM,
     PART_LEFT_LEG,
@@ -38,6 +45,14 @@ RIGS = ("game_engine", "default", "default_no_toes", "cmu_mb")
 # Blender (Z up, facing −Y) → glTF (Y up, facing +Z): a proper rotation (−90° about X).
 BLENDER_TO_GLTF = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, 1.0], [0.0, -1.0, 0.0]])
 GLTF_TO_BLENDER = BLENDER_TO_GLTF.T
+
+#: the armpit's skin weights are diffused over this many edge rings either side of the seam
+#: between the torso and an arm, this many times (module docstring)
+ARMPIT_RINGS = 4
+ARMPIT_SMOOTHING = 60
+#: how the skin weights were made, kept in a made body's meta (``"skin"``): a cached sample
+#: body made otherwise is made again
+SKIN_RECIPE = f"MakeHuman weights, armpits diffused {ARMPIT_RINGS} rings x {ARMPIT_SMOOTHING}"
 
 _ARM_ROOTS = ("upperarm", "lowerarm", "hand", "thumb", "index", "middle", "ring", "pinky")
 _LEG_ROOTS = ("thigh", "calf", "foot", "ball")
@@ -168,8 +183,9 @@ def part_of_bone(name: str) -> int:
 
 
 def skin_weights(names: list[str], rig: str = "game_engine",
-                 n_vertices: int = BODY_VERTEX_COUNT):
-    """(skin_joints (N,4) uint16, skin_weights (N,4) float32, parts (N,) int8)."""
+                 n_vertices: int = BODY_VERTEX_COUNT, armpit_smoothing: int = ARMPIT_SMOOTHING):
+    """(skin_joints (N,4) uint16, skin_weights (N,4) float32, parts (N,) int8);
+    ``armpit_smoothing=0``: MakeHuman's weights as they are (module docstring)."""
     weights = load_weights(rig)
     index = {n: i for i, n in enumerate(names)}
     dense = np.zeros((n_vertices, len(names)), dtype=np.float64)
@@ -183,16 +199,60 @@ def skin_weights(names: list[str], rig: str = "game_engine",
     if np.any(dense.sum(axis=1) <= 0):
         raise InputError(f"rig {rig!r}: some body vertices carry no skin weight")
     bone_part = np.array([part_of_bone(n) for n in names])
-    part_sum = np.zeros((n_vertices, 5))
-    for p in range(5):
-        part_sum[:, p] = dense[:, bone_part == p].sum(axis=1)
-    parts = np.argmax(part_sum, axis=1).astype(np.int8)
+    if n_vertices == BODY_VERTEX_COUNT and armpit_smoothing > 0:
+        dense = smooth_armpits(dense, _parts(dense, bone_part), body_triangles(),
+                               times=armpit_smoothing)
+    parts = _parts(dense, bone_part)
     top = np.argsort(-dense, axis=1, kind="stable")[:, :4]
     w = np.take_along_axis(dense, top, axis=1)
     w /= w.sum(axis=1, keepdims=True)
     # unused slots: weight 0 and joint 0 (glTF allows it)
     top = np.where(w > 0, top, 0)
     return top.astype(np.uint16), w.astype(np.float32), parts
+
+
+def _parts(dense: np.ndarray, bone_part: np.ndarray) -> np.ndarray:
+    """Each vertex's body part: the one whose bones carry the largest summed weight."""
+    part_sum = np.stack([dense[:, bone_part == p].sum(axis=1) for p in range(5)], axis=1)
+    return np.argmax(part_sum, axis=1).astype(np.int8)
+
+
+def vertex_adjacency(faces: np.ndarray, n: int) -> sp.csr_matrix:
+    """(n, n) 0/1 matrix of the mesh's edges."""
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
+    adj = sp.coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n)).tocsr()
+    return ((adj + adj.T) > 0).astype(np.float64)
+
+
+def armpit_seam(faces: np.ndarray, parts: np.ndarray) -> np.ndarray:
+    """(N,) bool: the vertices of edges that join the torso to an arm."""
+    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
+    pa, pb = parts[e[:, 0]], parts[e[:, 1]]
+    is_arm = (PART_LEFT_ARM, PART_RIGHT_ARM)
+    seam = ((pa == PART_TORSO) & np.isin(pb, is_arm)) | ((pb == PART_TORSO) & np.isin(pa, is_arm))
+    out = np.zeros(len(parts), bool)
+    out[e[seam].ravel()] = True
+    return out
+
+
+def smooth_armpits(dense: np.ndarray, parts: np.ndarray, faces: np.ndarray,
+                   rings: int = ARMPIT_RINGS, times: int = ARMPIT_SMOOTHING) -> np.ndarray:
+    """Dense skin weights (N, J) diffused round the seams between the torso and the arms:
+    every vertex within ``rings`` edges of an edge joining the torso to an arm is averaged
+    with its neighbours (half its own weights, half their mean) ``times`` times, the rest
+    held; each row still sums to 1."""
+    n = len(dense)
+    adj = vertex_adjacency(faces, n)
+    region = armpit_seam(faces, parts)
+    for _ in range(rings):
+        region |= (adj @ region.astype(np.float64)) > 0
+    idx = np.flatnonzero(region)
+    degree = np.asarray(adj.sum(axis=1)).ravel()
+    mean = (sp.diags(1.0 / np.maximum(degree, 1.0)) @ adj)[idx]
+    out = dense.copy()
+    for _ in range(times):
+        out[idx] = 0.5 * out[idx] + 0.5 * (mean @ out)
+    return out
 
 
 def build_rig(full_vertices_m: np.ndarray, rig: str = "game_engine"):

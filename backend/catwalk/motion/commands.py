@@ -118,8 +118,10 @@ def _bench_gait(args) -> int:
         ANKLE,
         HIP,
         KNEE,
+        armpit_faces,
         foot_sliding,
         foot_vertices,
+        inverted_triangles,
         sagittal_angles,
         walk_motion,
     )
@@ -129,6 +131,7 @@ def _bench_gait(args) -> int:
     for gender, label in ((0.0, "female"), (0.5, "neutral"), (1.0, "male")):
         body = rigged_base_body(gender)
         feet = np.concatenate([foot_vertices(body, "l"), foot_vertices(body, "r")])
+        pits = body.faces[armpit_faces(body)]
         for style in ("catwalk", "normal"):
             for speed in args.speed:
                 m = walk_motion(body, args.seconds, speed=speed, style=style, fps=args.fps)
@@ -164,6 +167,8 @@ def _bench_gait(args) -> int:
                     "knee_rms_vs_curve_deg": rms(knee, KNEE(ph)),
                     "ankle_rms_vs_curve_deg": rms(ankle, ANKLE(ph)),
                     "knee_range_deg": [round(float(knee.min()), 1), round(float(knee.max()), 1)],
+                    "armpit_inverted_triangles_max": int(
+                        inverted_triangles(body, m, verts, pits).max()),
                 })
     if args.json:
         print(json.dumps(rows, indent=2))
@@ -178,7 +183,8 @@ def _bench_gait(args) -> int:
 def register(top, groups) -> None:
     if "bench" in groups:
         g = groups["bench"].add_parser(
-            "gait", help="walk checks: foot sliding, floor contact, flips, loop closure")
+            "gait", help="walk checks: foot sliding, floor contact, flips, loop closure, "
+            "armpits turned inside out")
         g.add_argument("--seconds", type=float, default=4.0, help="walk length, s")
         g.add_argument("--fps", type=float, default=30.0)
         g.add_argument("--speed", type=float, nargs="+", default=[1.2], help="m/s")

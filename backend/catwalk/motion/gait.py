@@ -750,3 +750,48 @@ def sagittal_angles(body: Body, motion: Motion, side: str = "l"):
     phase0 = 0.0 if side == "l" else 0.5
     phase = (np.arange(motion.frames) / motion.fps / motion.meta["cycle_s"] - phase0) % 1.0
     return phase, hip, knee, ankle
+
+
+def armpit_faces(body: Body, reach: float = 0.06) -> np.ndarray:
+    """Indices of the body's triangles with a corner within ``reach`` (m, at rest) of a seam
+    between the torso and an arm: the armpits and the tops of the shoulders."""
+    from scipy.spatial import cKDTree
+
+    from catwalk.body.rig import armpit_seam
+
+    v = np.asarray(body.vertices, np.float64)
+    tri = np.asarray(body.faces, np.int64)
+    seam = v[armpit_seam(tri, body.parts)]
+    d, _ = cKDTree(seam).query(v, distance_upper_bound=reach)
+    return np.flatnonzero(np.isfinite(d)[tri].any(axis=1))
+
+
+def inverted_triangles(body: Body, motion: Motion, verts: np.ndarray,
+                       faces: np.ndarray | None = None) -> np.ndarray:
+    """Per frame, how many of ``faces`` (default: all the body's) the skinning turns inside out:
+    the posed triangle's normal points away from its rest normal carried by the blended
+    rotation of its corners (the skinning's own frame there). A smooth rig has none; linear
+    blend skinning folds a joint's crease over itself where the weights change too abruptly
+    (the armpit with MakeHuman's weights, :mod:`catwalk.body.rig`)."""
+    from catwalk.motion.skinning import joint_world_matrices, skinning_matrices
+
+    tri = np.asarray(body.faces if faces is None else faces, dtype=np.int64)
+    corners = np.unique(tri)
+    local = np.searchsorted(corners, tri)
+    joints = body.skin_joints[corners].astype(np.int64)
+    weights = body.skin_weights[corners].astype(np.float64)
+
+    def normals(p):
+        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
+        return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-20)
+
+    rest = normals(np.asarray(body.vertices, np.float64)[tri])
+    mats = skinning_matrices(body.skeleton, joint_world_matrices(
+        body.skeleton, motion.rotations, motion.translations))[..., :3, :3]
+    out = np.zeros(len(verts), dtype=np.int64)
+    for f in range(len(verts)):
+        rot = np.einsum("vk,vkij->vij", weights, mats[f][joints])[local].sum(axis=1)
+        carried = np.einsum("tij,tj->ti", rot, rest)
+        posed = normals(np.asarray(verts[f], np.float64)[tri])
+        out[f] = int((np.einsum("ti,ti->t", carried, posed) < 0).sum())
+    return out
