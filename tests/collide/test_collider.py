@@ -360,3 +360,47 @@ def test_a_bad_plane_band_is_refused():
     for bad in (-0.01, 0.2, float("nan")):
         with pytest.raises(CatwalkError, match="plane_band"):
             make_collider("object", f, np.zeros(len(v), np.int8), plane_band=bad)
+
+
+def test_a_point_another_pass_had_is_not_judged_by_where_it_was_long_ago():
+    """A point the object pass did not see for a while (the hybrid's edge and limb passes
+    take turns) is judged from its previous positions: where the pass last saw it, long ago,
+    is no crossing test and no search radius. The scene: an open sheet (one part, as a limb
+    cut at its rim); the point seen in front of it, then, unseen, moved beside and behind its
+    plane, 35 cm from its edge: nothing to answer there."""
+    from catwalk.collide.collider import NO_MASK
+    from catwalk.collide.object import ObjectCollider
+
+    class TakingTurns(ObjectCollider):
+        only = NO_MASK
+
+        def _resolve(self, s, held):
+            reach = self._object_pass.reach(self, s.lo, s.hi)
+            self._pts = self._object_pass.run(self, s, held, reach & self.tree_parts,
+                                              self._pts, self.only)
+
+    v = np.array([[-0.15, 0.85, 0.0], [0.15, 0.85, 0.0], [0.15, 1.15, 0.0], [-0.15, 1.15, 0.0]])
+    f = np.array([[0, 1, 2], [0, 2, 3]])          # normal +Z
+    c = TakingTurns(f, np.zeros(4, np.int8))
+    c.update(v)
+    keeper = [0.0, 1.0, 0.01]                     # keeps the sheet in reach of the cloth's box
+    pos = np.array([keeper, [0.0, 1.0, 0.3]])
+    c.resolve(pos, np.zeros_like(pos), pos.copy(), alpha=0.5)
+    c.only = np.array([True, False])              # point 1 goes to another pass
+    for _ in range(3):
+        c.update(v)
+        c.resolve(pos, np.zeros_like(pos), pos.copy(), alpha=0.5)
+    pos[1] = [0.5, 1.0, -0.05]                    # moved meanwhile: behind the plane, far
+    c.only = NO_MASK
+    c.update(v)
+    after = pos.copy()
+    held = c.resolve(after, np.zeros_like(pos), pos.copy(), alpha=0.5)
+    assert not held[1] and np.array_equal(after[1], pos[1])
+    # a point seen at the previous call that crossed the sheet is still pushed back out
+    pos2 = np.array([keeper, [0.0, 1.0, 0.002]])
+    c2 = ObjectCollider(f, np.zeros(4, np.int8))
+    c2.update(v)
+    c2.resolve(pos2, np.zeros_like(pos2), pos2.copy(), alpha=0.5)
+    crossed = np.array([keeper, [0.0, 1.0, -0.03]])
+    held = c2.resolve(crossed, np.zeros_like(crossed), pos2.copy(), alpha=1.0)
+    assert held[1] and crossed[1, 2] >= T - 1e-9

@@ -440,6 +440,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
         py = pos[i, 1]
         pz = pos[i, 2]
         ti = pclk[i, 4]
+        rel = np.inf   # never seen: no bound on its motion or the body's
+        bstep = np.inf
         if ti >= 0.0:
             # since the point was last seen: its motion in the moving frame, the body's
             ex = px - last[i, 0] - (clock[0] - pclk[i, 0])
@@ -449,6 +451,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             btrav = abs(clock[3] - pclk[i, 3])
             same = ti >= frame and tnow >= ti  # seen earlier in this frame
             bstep = pspeed[i] * (tnow - ti) if same and pstamp[i] == frame else btrav
+        if ti >= frame + alpha_prev - 1e-9:
+            # seen at the previous call or since: where it was left then
             qx = left[i, 0]
             qy = left[i, 1]
             qz = left[i, 2]
@@ -458,8 +462,9 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             dz = pz - qz
             move = math.sqrt(dx * dx + dy * dy + dz * dz)
         else:
-            rel = np.inf
-            bstep = np.inf
+            # never seen, or not since before the previous call (another pass had it: the
+            # hybrid's maps and limbs take turns): where it was then is no crossing test and
+            # no search radius, the previous positions are
             qx = prev[i, 0]
             qy = prev[i, 1]
             qz = prev[i, 2]
