@@ -107,6 +107,11 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
             "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
             "cloth_steps_per_frame": s["cloth_steps_per_frame"],
             "collisions_per_frame": s["collisions_per_frame"],
+            # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the
+            # points searched in a hierarchy or looked up in the maps, "reused": answered by
+            # their kept triangle, "clearance_skips": far enough not to look)
+            "collider_counts_per_response": {
+                k: round(v / s["collider_calls"], 1) for k, v in s["collider_counts"].items()},
         }
     out["figure10"] = figure10_displacement()
     out["tryon_4s_warm"] = warm_tryon(body, garment, size)

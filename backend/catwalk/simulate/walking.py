@@ -28,6 +28,7 @@ import numpy as np
 from catwalk.body.types import Motion
 from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.collide import make_collider
+from catwalk.collide.kernels import STAT_NAMES
 from catwalk.errors import Cancelled
 from catwalk.motion.skinning import body_frames
 from catwalk.simulate.dressing import Dressed
@@ -130,9 +131,12 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     nf = motion.frames
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
     x0 = state.positions.copy()
+    counts0 = collider.stats.copy()
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
+        if f == n_pre:   # the recorded frames' collider work from here
+            counts0 = collider.stats.copy()
         try:
             n_col, tc, tcl = _step_frame(solver, model, state, collider, verts[f - 1], verts[f],
                                          vels[f], frame_dt, x0, settings, tally, cancel)
@@ -161,6 +165,11 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         "body_triangles": int(len(body.faces)), "collider": settings.collider,
         "cloth_steps_per_frame": steps_per_frame,
         **tally.stats(model, nf, t_body * 1e3 / len(verts)),
+        # the collider's counters over the recorded frames (collide.kernels.STAT_NAMES), and
+        # its calls: each frame's responses and its closing one
+        "collider_counts": dict(zip(STAT_NAMES, (collider.stats - counts0).tolist(),
+                                    strict=True)),
+        "collider_calls": int(sum(tally.ncols)) + int(nf),
     }
     return Walked(np.arange(nf) / motion.fps, out, stats)
 
