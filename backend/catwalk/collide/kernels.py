@@ -43,7 +43,7 @@ STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clea
 ObjectTime = namedtuple("ObjectTime", "alpha alpha_prev frame ref clock body_speed")
 ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf")
 ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radius max_depth "
-                          "skip_far use_cache reuse_tol use_clear cert_reach second plane_band")
+                          "skip_far use_cache reuse_tol use_clear second plane_band")
 ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
                           "pspeed pstamp last pclk csw crel cstamp ct2 cp2 cc2 left")
 Workspace = namedtuple("Workspace", "stack reach spd rec2 stats")
@@ -329,7 +329,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     (:data:`ObjectBody`: the packed body ``vb``/``vp``, ``faces``, ``face_part``, the
     hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``), ``cfg``
     (:data:`ObjectConfig`: thickness, friction, contact slack, search radius, max depth, which
-    skips are on, ``reuse_tol``, ``cert_reach``, ``second``, ``plane_band``), ``pts``
+    skips are on, ``reuse_tol``, ``second``, ``plane_band``), ``pts``
     (:data:`ObjectPoints`: what is kept per point between calls, below) and ``ws``
     (:data:`Workspace`: a thread's ``stack``, ``reach``, ``spd``, ``rec2`` and counters
     ``stats``). ``held`` (P,) bool and
@@ -359,7 +359,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     *other* part has a triangle nearer to the point than it — another part coming close (a
     hand swinging over a thigh) is always seen. Per other part, ``csw[i, k]`` bounds how
     near it comes over frame ``cstamp[i]`` (in the moving frame: its leaf boxes swept over
-    the frame, looked for within the triangle's distance + ``cert_reach``), less
+    the frame, looked for within the triangle's distance + ``search_radius``), less
     ``crel[i]``, the point's motion since; a part beyond the triangle's distance by that is
     out of the question. One part that is not: its nearest triangle to the point ``ct2[i]``
     is kept (with the point ``cp2`` and the triangle's centroid ``cc2`` then) and compared
@@ -400,7 +400,9 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     alpha, alpha_prev, frame, ref, clock, body_speed = now
     vb, vp, faces, face_part, nb, links, tris, roots, lf = body
     (thickness, friction, slack, search_radius, max_depth, skip_far, use_cache, reuse_tol,
-     use_clear, cert_reach, second, plane_band) = cfg
+     use_clear, second, plane_band) = cfg
+    # how far beyond the closest triangle the other parts' bounds are looked for
+    cert_reach = search_radius
     (cache_tri, cache_p, cache_c, clear, clear_rel, rkey, rec, pspeed, pstamp, last, pclk, csw,
      crel, cstamp, ct2, cp2, cc2, left) = pts
     stack, reach, spd, rec2, stats = ws

@@ -206,7 +206,7 @@ class ObjectPass:
         cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth, col.skips.far_points,
                                    col.skips.reuse_closest, col.reuse_tol, col.skips.clearance,
-                                   col.search_radius, col.second_surface, col.plane_band))
+                                   col.second_surface, col.plane_band))
         arrays = tuple(pts.arrays())
 
         def points(start, stop, stack, reach, spd, rec2, stats):
