@@ -1,6 +1,6 @@
-"""Triangle-mesh topology shared by the scan loader, the scan registration, the walk checks and
-the test scans: sides as integer keys, unique edges, triangles sharing a side, folds, connected
-pieces, and a mesh without the vertices no triangle uses."""
+"""Triangle-mesh topology shared by the scan loader, the scan registration, the rig, the walk
+checks and the test scans: sides as integer keys, unique edges, vertex adjacency, triangles
+sharing a side, folds, connected pieces, and a mesh without the vertices no triangle uses."""
 
 from __future__ import annotations
 
@@ -19,6 +19,15 @@ def unique_edges(faces: np.ndarray, n: int) -> np.ndarray:
     """(E, 2) the mesh's edges, each once, lower vertex first."""
     key = np.unique(edge_keys(faces, n))
     return np.stack([key // n, key % n], 1)
+
+
+def vertex_adjacency(faces: np.ndarray, n: int):
+    """(n, n) scipy CSR matrix, 1.0 where two vertices share an edge (symmetric)."""
+    from scipy.sparse import coo_matrix
+
+    e = unique_edges(faces, n)
+    both = np.concatenate([e, e[:, ::-1]])
+    return coo_matrix((np.ones(len(both)), (both[:, 0], both[:, 1])), shape=(n, n)).tocsr()
 
 
 def face_pairs(faces: np.ndarray, n: int) -> np.ndarray:

@@ -39,6 +39,7 @@ from catwalk.body.types import (
     Skeleton,
 )
 from catwalk.errors import InputError
+from catwalk.mesh import unique_edges, vertex_adjacency
 
 RIGS = ("game_engine", "default", "default_no_toes", "cmu_mb")
 
@@ -217,16 +218,9 @@ def _parts(dense: np.ndarray, bone_part: np.ndarray) -> np.ndarray:
     return np.argmax(part_sum, axis=1).astype(np.int8)
 
 
-def vertex_adjacency(faces: np.ndarray, n: int) -> sp.csr_matrix:
-    """(n, n) 0/1 matrix of the mesh's edges."""
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
-    adj = sp.coo_matrix((np.ones(len(e)), (e[:, 0], e[:, 1])), shape=(n, n)).tocsr()
-    return ((adj + adj.T) > 0).astype(np.float64)
-
-
 def armpit_seam(faces: np.ndarray, parts: np.ndarray) -> np.ndarray:
     """(N,) bool: the vertices of edges that join the torso to an arm."""
-    e = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]).astype(np.int64)
+    e = unique_edges(faces, len(parts))
     pa, pb = parts[e[:, 0]], parts[e[:, 1]]
     is_arm = (PART_LEFT_ARM, PART_RIGHT_ARM)
     seam = ((pa == PART_TORSO) & np.isin(pb, is_arm)) | ((pb == PART_TORSO) & np.isin(pa, is_arm))

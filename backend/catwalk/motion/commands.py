@@ -111,9 +111,11 @@ def _bench_skinning(args) -> int:
 
 
 def _bench_gait(args) -> int:
+    from dataclasses import replace
+
     import numpy as np
 
-    from catwalk.body.rig import rigged_base_body
+    from catwalk.body.rig import rigged_base_body, skin_weights
     from catwalk.motion.gait import (
         ANKLE,
         HIP,
@@ -132,6 +134,9 @@ def _bench_gait(args) -> int:
         body = rigged_base_body(gender)
         feet = np.concatenate([foot_vertices(body, "l"), foot_vertices(body, "r")])
         pits = body.faces[armpit_faces(body)]
+        # the same body with MakeHuman's armpit weights as they are: what the diffusion buys
+        joints, weights, parts = skin_weights(body.skeleton.names, armpit_smoothing=0)
+        raw = replace(body, skin_joints=joints, skin_weights=weights, parts=parts)
         for style in ("catwalk", "normal"):
             for speed in args.speed:
                 m = walk_motion(body, args.seconds, speed=speed, style=style, fps=args.fps)
@@ -169,6 +174,8 @@ def _bench_gait(args) -> int:
                     "knee_range_deg": [round(float(knee.min()), 1), round(float(knee.max()), 1)],
                     "armpit_inverted_triangles_max": int(
                         inverted_triangles(body, m, verts, pits).max()),
+                    "armpit_inverted_triangles_max_undiffused": int(
+                        inverted_triangles(raw, m, body_frames(raw, m)[0], pits).max()),
                 })
     if args.json:
         print(json.dumps(rows, indent=2))

@@ -773,6 +773,7 @@ def inverted_triangles(body: Body, motion: Motion, verts: np.ndarray,
     rotation of its corners (the skinning's own frame there). A smooth rig has none; linear
     blend skinning folds a joint's crease over itself where the weights change too abruptly
     (the armpit with MakeHuman's weights, :mod:`catwalk.body.rig`)."""
+    from catwalk.mesh import face_normals
     from catwalk.motion.skinning import joint_world_matrices, skinning_matrices
 
     tri = np.asarray(body.faces if faces is None else faces, dtype=np.int64)
@@ -780,18 +781,13 @@ def inverted_triangles(body: Body, motion: Motion, verts: np.ndarray,
     local = np.searchsorted(corners, tri)
     joints = body.skin_joints[corners].astype(np.int64)
     weights = body.skin_weights[corners].astype(np.float64)
-
-    def normals(p):
-        n = np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0])
-        return n / np.maximum(np.linalg.norm(n, axis=-1, keepdims=True), 1e-20)
-
-    rest = normals(np.asarray(body.vertices, np.float64)[tri])
+    rest = face_normals(np.asarray(body.vertices, np.float64), tri)
     mats = skinning_matrices(body.skeleton, joint_world_matrices(
         body.skeleton, motion.rotations, motion.translations))[..., :3, :3]
     out = np.zeros(len(verts), dtype=np.int64)
     for f in range(len(verts)):
         rot = np.einsum("vk,vkij->vij", weights, mats[f][joints])[local].sum(axis=1)
         carried = np.einsum("tij,tj->ti", rot, rest)
-        posed = normals(np.asarray(verts[f], np.float64)[tri])
+        posed = face_normals(np.asarray(verts[f], np.float64), tri)
         out[f] = int((np.einsum("ti,ti->t", carried, posed) < 0).sum())
     return out
