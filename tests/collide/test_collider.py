@@ -266,6 +266,26 @@ def test_depth_maps_front_and_back():
     assert make_collider("object", f, np.zeros(len(v), np.int8)).depth_maps() is None
 
 
+def test_a_point_where_the_maps_see_one_side_only_is_not_left_inside():
+    """At the open rim where a limb joins the torso, a pixel can hold a surface facing the
+    front camera and none facing the back one: such a pixel does not answer (hybrid sends the
+    point to object space), rather than reading the empty side as "everything is outside"."""
+    centre = np.array([0.0, 1.2, 0.0])
+    R = 0.15
+    v, f = sphere(centre, R, 64, 32)
+    # a hole in the back on the +x side: there the maps have a front and no back
+    fc = v[f].mean(axis=1) - centre
+    f = f[~((fc[:, 2] < 0) & (fc[:, 0] > 0.06))]
+    c = make_collider("hybrid", f, np.zeros(len(v), np.int8), map_size=(64, 64))
+    c.update(v)
+    d = _shell(4000, [0, 0, 0], 1.0, 1.0, seed=3)
+    d = d[(d[:, 0] > 0.6) & (d[:, 0] < 0.8) & (d[:, 2] > 0.3)]
+    pos = centre + d * (R - 0.005)   # 5 mm inside the front surface, before the hole
+    assert len(pos) > 50
+    c.resolve(pos, np.zeros_like(pos), pos.copy())
+    assert np.linalg.norm(pos - centre, axis=1).min() >= _inscribed(v, f, centre)
+
+
 def test_bad_input_is_a_catwalk_error():
     v, f = sphere((0, 1, 0), 0.1)
     parts = np.zeros(len(v), np.int8)

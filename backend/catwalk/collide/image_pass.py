@@ -79,9 +79,10 @@ class DepthMaps:
             and g[3] >= need[3]
 
     def front_back(self, slot):
-        """(front depth, back depth, covered) of a slot, float64 copies."""
+        """(front depth, back depth, covered) of a slot, float64 copies; covered: both sides
+        drawn (what the look-ups answer from)."""
         return (self.D[:, :, slot, 0].astype(np.float64), self.D[:, :, slot, 1].astype(np.float64),
-                self.tri[slot, 0] >= 0)
+                (self.tri[slot, 0] >= 0) & (self.tri[slot, 1] >= 0))
 
 
 class ImagePass:

@@ -834,7 +834,10 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         w01 = tx * (1.0 - ty)
         w10 = (1.0 - tx) * ty
         w11 = tx * ty
-        # per slot: bilinear over the covered pixels, and the covered pixel of most weight
+        # per slot: bilinear over the covered pixels (front and back both drawn: at the open
+        # rim where a limb joins, a pixel can hold a surface facing one camera and none
+        # facing the other, and an empty side's ±inf would put every point beyond reach),
+        # and the covered pixel of most weight
         ws0 = 0.0
         zf0 = 0.0
         zb0 = 0.0
@@ -850,7 +853,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         for q in range(4):
             wq = w00 if q == 0 else (w01 if q == 1 else (w10 if q == 2 else w11))
             f = pdep[i, q]
-            if f > -np.inf:
+            if f > -np.inf and pdep[i, 8 + q] < np.inf:
                 nc0 += 1
                 ws0 += wq
                 zf0 += wq * f
@@ -859,7 +862,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
                     wq0 = wq
                     q0 = q
             f = pdep[i, 4 + q]
-            if f > -np.inf:
+            if f > -np.inf and pdep[i, 12 + q] < np.inf:
                 nc1 += 1
                 ws1 += wq
                 zf1 += wq * f
