@@ -197,7 +197,6 @@ class Collider:
         self.map_parts, self.tree_parts, self.hier_parts = np.zeros((3, N_PARTS), bool)
         self._image_pass = None    # image_pass.ImagePass: the depth maps, for the mapped parts
         self._object_pass = None   # object_pass.ObjectPass: the hierarchies, for hier_parts
-        self._near_limb = np.zeros(0, bool)  # hybrid: the points a limb held at the last resolve
         self._init_frames()
         # with threads > 1 the object and image passes run over slices of the points at
         # once, each thread with its own workspaces (kernels.object_pass, image_pass)

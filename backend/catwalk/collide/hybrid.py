@@ -43,6 +43,8 @@ class HybridCollider(Collider):
         self._pts = self._edge_pts = None  # the object pass's PointState: limbs, edge fallback
         self._edge = np.zeros(0, bool)   # the points the image pass leaves to object space
         self._rest = np.zeros(0, bool)   # and the others
+        self._near_limb = np.zeros(0, bool)  # the points a limb held at the last resolve
+        self._held_edge = self._held_limbs = np.zeros(0, bool)   # each object pass's held
 
     def _resolve(self, s: Substep, held) -> None:
         reach = None if self._object_pass is None else self._object_pass.reach(self, s.lo, s.hi)
@@ -74,8 +76,14 @@ class HybridCollider(Collider):
         """The object passes: the points the maps left (``flagged``) against every part in
         ``reach``, the others against the limbs; ``track``: note the points a limb held."""
         n = len(s.pos)
-        he = np.zeros(n, bool) if track else held
-        hl = np.zeros(n, bool) if track else held
+        if track:
+            if len(self._held_edge) != n:
+                self._held_edge, self._held_limbs = np.zeros((2, n), bool)
+            he, hl = self._held_edge, self._held_limbs
+            he[:] = False
+            hl[:] = False
+        else:
+            he = hl = held
         op = self._object_pass
         if flagged:
             # the points the maps left alone: object space, every part in reach (the
@@ -83,15 +91,17 @@ class HybridCollider(Collider):
             np.logical_not(self._edge, out=self._rest)
             self._edge_pts = op.run(self, s, he, reach, self._edge_pts, self._edge)
         if self.tree_parts.any():
+            # the limbs answer only points near them: beyond the search radius the side of
+            # a limb's triangle says nothing (the torso, which they do not see, is nearer)
             self._pts = op.run(self, s, hl, reach & self.tree_parts, self._pts,
-                               self._rest if flagged else NO_MASK)
+                               self._rest if flagged else NO_MASK, bounded=True)
         if track:
             held |= he
             held |= hl
             # held by a limb: by the limbs' pass, or by a limb's triangle in the all-parts
             # pass
-            near = hl
+            near = hl.copy()
             if flagged and self._edge_pts is not None:
                 t = self._edge_pts.cache_tri
-                near = near | (he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO))
+                near |= he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
             self._near_limb = near
