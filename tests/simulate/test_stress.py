@@ -113,3 +113,11 @@ def test_the_grid_table_lays_the_cells_out():
     assert "| speed \\ arms | 11.0 | 90.0 |" in t
     assert "| 1.0 | 0.50 mm, 0.300 / 0.1000 | 0.50 mm, 0.300 / 0.1000 |" in t
     assert "| 2.0 | **exploded** | **exploded** |" in t
+
+
+def test_the_cells_start_from_the_preset_asked():
+    r = stress.run(axes=(), preset_name="fast", collider="object")
+    assert (r["preset"], r["collider"], r["cells"]) == ("fast", "object", [])
+    assert stress.run(axes=())["collider"] == "hybrid"   # balanced, the default collider
+    with pytest.raises(InputError, match="unknown preset 'turbo'"):
+        stress.run(axes=(), preset_name="turbo")

@@ -41,15 +41,15 @@ def default_runs(presets) -> list[tuple[str, dict]]:
     """(label, Settings changes on top of a preset) of the default list."""
     runs = [(f"preset {name}", {"preset": name}) for name in presets]
     variants = [
-        ("collider hybrid", {"collider": "hybrid"}),
+        ("collider object", {"collider": "object"}),
         ("collider image", {"collider": "image"}),
         ("resolves 5/frame", RESOLVES["5"]),
         ("resolves 20/frame", RESOLVES["20"]),
         ("h 2.5 cm", {"h": 0.025}),
         ("h 1 cm", {"h": 0.01}),
         ("skips off", {"skips": False}),
-        ("hybrid, map 128", {"collider": "hybrid", "map_size": 128}),
-        ("hybrid, map 384", {"collider": "hybrid", "map_size": 384}),
+        ("maps 128", {"map_size": 128}),
+        ("maps 384", {"map_size": 384}),
     ]
     return runs + [(f"balanced, {label}", {"preset": "balanced", **ch})
                    for label, ch in variants]

@@ -45,7 +45,6 @@ SPEED_FACTORS = (0.5, 1.0, 2.0, 2.5, 4.0)
 #: imported here: the gait loads scipy, ≈ 1 s on every command's start), up to arms raised
 ARM_SWING_DEG = (11.0, 30.0, 60.0, 90.0)
 BASE_SPEED = 1.2
-BASE_SAFETY = 0.9
 ENERGY_BOUND = 10.0
 STIFF_FIELDS = ("stretch_warp", "stretch_weft", "shear", "bend_warp", "bend_weft")
 
@@ -146,13 +145,14 @@ ALL_AXES = ("step", "stiffness", "speed", "arms", "garment", "long")
 
 def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
         progress=None, collider: str | None = None, sizes=("M",),
-        grid: tuple[str, str] | None = None, walk: dict | None = None) -> dict:
-    """The runs of the module docstring on the ``balanced`` preset (its ``collider`` changed if
-    given; ``walk``: fields changed for the walks alone, as ``bench paper``'s): each of
-    ``axes`` varied alone, then, if ``grid`` names two of :data:`AXES`, every pair of their
-    values. The garment axis walks each catalogue garment in each of ``sizes`` it has (the
-    default scene's garment in M, or its middle size). A cell asked twice (the
-    default scene is each axis's 1× cell) is simulated once."""
+        grid: tuple[str, str] | None = None, walk: dict | None = None,
+        preset_name: str = "balanced") -> dict:
+    """The runs of the module docstring on a preset (``balanced`` unless ``preset_name``; its
+    ``collider`` changed if given; ``walk``: fields changed for the walks alone, as ``bench
+    paper``'s): each of ``axes`` varied alone, then, if ``grid`` names two of :data:`AXES`,
+    every pair of their values. The garment axis walks each catalogue garment in each of
+    ``sizes`` it has (the default scene's garment in M, or its middle size). A cell asked twice
+    (the default scene is each axis's 1× cell) is simulated once."""
     from catwalk.bench import cpu_model
     from catwalk.errors import InputError
     from catwalk.garment.catalogue import catalogue_files
@@ -167,7 +167,7 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
                              any(a not in AXES for a in grid)):
         raise InputError(f"--grid takes two different axes of {', '.join(AXES)}, got "
                          f"{' '.join(grid)}", "grid")
-    base = preset("balanced").with_(collider=collider)
+    base = preset(preset_name).with_(collider=collider)
     scene = _Scene(base, files, walk or {})
     g = scene.garment(garment_name)
     size = "M" if "M" in g.sizes else g.sizes[len(g.sizes) // 2]
@@ -188,7 +188,7 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
                     # the refusal is needed: the default dressing stepped with the guard off
                     body = scene.body(g, size)
                     dressed = dressed or dress(body, g, size, settings=base)
-                    r["guard_off"] = blow_up_time(body, dressed, BASE_SAFETY * value)
+                    r["guard_off"] = blow_up_time(body, dressed, base.step_safety * value)
                 add(axis, value, r)
         elif axis == "garment":
             for name in files:
@@ -255,7 +255,7 @@ class _Scene:
                 fab = resolve_fabric(g.fabric, "garment fabric")
                 fab = replace(fab, **{k: getattr(fab, k) * stiffness for k in STIFF_FIELDS})
             settings = self.base if step == 1.0 else \
-                replace(self.base, step_safety=BASE_SAFETY * step)
+                replace(self.base, step_safety=self.base.step_safety * step)
             self.memo[key] = cell(self.body(g, size), g, size, settings, fabric=fab,
                                   speed=BASE_SPEED * speed, seconds=seconds, arm_swing_deg=arms,
                                   walk_settings=self.walk)
@@ -329,8 +329,10 @@ def register(bench) -> None:
                    help="also every pair of values of these two axes")
     p.add_argument("--long-seconds", type=float, default=20.0,
                    help="length of the long walk (default 20 s = 600 frames)")
+    p.add_argument("--preset", default="balanced", choices=["fast", "balanced", "accurate"],
+                   help="the preset every cell starts from (default balanced)")
     p.add_argument("--collider", choices=["object", "hybrid", "image"],
-                   help="the collider of every cell (default: the preset's, object)")
+                   help="the collider of every cell (default: the preset's, hybrid)")
     p.add_argument("--sizes", nargs="+", default=["M"],
                    help="the sizes the garment axis walks (default M)")
     add_walk_settings(p)
@@ -347,6 +349,7 @@ def main(args) -> int:
     axes = args.axes if args.axes is not None else (() if args.grid else ALL_AXES)
     r = run(args.garment, tuple(axes), args.long_seconds, progress=progress_lines(args),
             collider=args.collider, sizes=tuple(args.sizes),
-            grid=tuple(args.grid) if args.grid else None, walk=walk_settings(args))
+            grid=tuple(args.grid) if args.grid else None, walk=walk_settings(args),
+            preset_name=args.preset)
     print(json.dumps(r, indent=2) if args.json else format_table(r))
     return 0

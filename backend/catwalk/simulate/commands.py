@@ -172,7 +172,7 @@ def _common(p, output_help: str) -> None:
     p.add_argument("--preset", default="balanced", choices=list(PRESETS),
                    help="speed/accuracy preset (default balanced)")
     p.add_argument("--collider", choices=["hybrid", "image", "object"],
-                   help="collider mode (default: the preset's, object)")
+                   help="collider mode (default: the preset's, hybrid)")
     p.add_argument("--h", type=float, help="cloth grid spacing in metres (default: preset's)")
     p.add_argument("-o", "--output", required=True, help=output_help)
     p.add_argument("--metrics", help="also write the metrics as JSON to this file")

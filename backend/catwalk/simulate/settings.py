@@ -47,7 +47,7 @@ class Settings:
     h: float = 0.015
     method: str = "ordered"
     step_safety: float = 0.9
-    collider: str = "object"
+    collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
     threads: int = 1
