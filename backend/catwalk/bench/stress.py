@@ -314,6 +314,8 @@ def grid_table(r: dict) -> list[str]:
 
 def register(bench) -> None:
     from catwalk.bench import add_output_flags, add_walk_settings
+    from catwalk.collide import MODES
+    from catwalk.simulate.settings import PRESETS
 
     p = bench.add_parser(
         "stress", help="stability across the range: time step, stiffness, walking speed, "
@@ -329,9 +331,9 @@ def register(bench) -> None:
                    help="also every pair of values of these two axes")
     p.add_argument("--long-seconds", type=float, default=20.0,
                    help="length of the long walk (default 20 s = 600 frames)")
-    p.add_argument("--preset", default="balanced", choices=["fast", "balanced", "accurate"],
+    p.add_argument("--preset", default="balanced", choices=list(PRESETS),
                    help="the preset every cell starts from (default balanced)")
-    p.add_argument("--collider", choices=["object", "hybrid", "image"],
+    p.add_argument("--collider", choices=list(MODES),
                    help="the collider of every cell (default: the preset's, hybrid)")
     p.add_argument("--sizes", nargs="+", default=["M"],
                    help="the sizes the garment axis walks (default M)")

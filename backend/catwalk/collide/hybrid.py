@@ -91,10 +91,9 @@ class HybridCollider(Collider):
             np.logical_not(self._edge, out=self._rest)
             self._edge_pts = op.run(self, s, he, reach, self._edge_pts, self._edge)
         if self.tree_parts.any():
-            # the limbs answer only points near them: beyond the search radius the side of
-            # a limb's triangle says nothing (the torso, which they do not see, is nearer)
+            # (without the torso, the pass answers only points near the limbs: ObjectPass.run)
             self._pts = op.run(self, s, hl, reach & self.tree_parts, self._pts,
-                               self._rest if flagged else NO_MASK, bounded=True)
+                               self._rest if flagged else NO_MASK)
         if track:
             held |= he
             held |= hl

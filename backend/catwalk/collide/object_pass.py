@@ -176,14 +176,16 @@ class ObjectPass:
             col.timings.parts_refit += 1
         col.timings.refit += cpu_time() - t
 
-    def run(self, col, s: Substep, held, active, pts: PointState | None, only,
-            bounded: bool = False):
+    def run(self, col, s: Substep, held, active, pts: PointState | None, only):
         """The pass over the ``active`` parts with the per-point state ``pts`` (made when
         missing or of another size; returned); ``only``: the points to see (empty: all).
         Fixes the points in contact, marks them in ``held``, sets their planes.
-        ``bounded``: the parts answer only points within the search radius (plus the point's
-        motion) whether or not the ``far_points`` skip is on — for a pass that does not see
-        every part (hybrid's limbs), where a far triangle's side is no answer."""
+
+        A pass that does not see every part the body has (hybrid's limbs' pass, without the
+        torso) answers only points within the search radius (plus their motion) whether or
+        not the ``far_points`` skip is on: a triangle of its parts farther away says nothing
+        of the point's side — beyond a limb's open rim its tangent plane puts torso points
+        "inside"."""
         n = len(s.pos)
         if not active.any():
             if len(only) == 0:
@@ -209,7 +211,7 @@ class ObjectPass:
                                   h.links, h.tris, h.root, self._lf))
         cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth,
-                                   col.skips.far_points or bounded,
+                                   col.skips.far_points or bool(np.any(col._present & ~active)),
                                    col.skips.reuse_closest, col.reuse_tol, col.skips.clearance,
                                    col.second_surface, col.plane_band))
         arrays = tuple(pts.arrays())
