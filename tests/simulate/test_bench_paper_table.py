@@ -28,3 +28,19 @@ def test_the_worker_time_leads_and_is_judged_against_the_target():
     assert "exploded: walk frame 35" in t
     assert "44.0 ms/frame (max penetration 0.30 mm" in t
     assert "7.90 s (dress 0.60 + walk 7.10 + .glb 0.20); target ≤ 2.0 s: missed" in t
+
+
+def test_the_reference_line_says_the_ratio_and_the_fidelity_or_that_it_was_not_run():
+    r = _result(0.43, 0.52)
+    assert "explicit reference (a response after every cloth step): not run" in format_table(r)
+    r["default"] = {"rms_to_reference_mm": 12.34, "noise_mm": 9.87, "hem_swing_mm": 20.0,
+                    "hem_swing_ratio": 0.952}
+    r["reference"] = {"collisions_per_frame": {"mean": 95.0}, "ms_per_frame": 210.0,
+                      "ratio_to_default": 4.77, "max_penetration_mm": 0.0, "max_strain": 0.3,
+                      "hem_swing_mm": 21.0}
+    line = next(x for x in format_table(r).splitlines() if x.startswith("explicit reference"))
+    assert "95 a frame): 210.0 ms/frame, 4.77× the default's" in line
+    assert "per-vertex RMS 12.3 mm (noise floor 9.9 mm)" in line
+    assert "hem swing 20.0 against 21.0 mm (ratio 0.952)" in line
+    r["reference"] = {"exploded": "walk frame 3: a point over 100 m/s"}
+    assert "exploded: walk frame 3" in format_table(r)

@@ -13,6 +13,13 @@ panel in image space against hybrid.
 ``--plane-band``, ``--min-collisions``, ``--max-move``: how many collision responses a frame
 and the plane band, docs/tryon.md "How many responses a frame"); the dressing and the 4 s
 try-on keep the preset's.
+
+``default`` and ``reference`` (issue 21's keys): the default collider's walk (the product's:
+the explicit integrator — the paper's Provot + ordered velocity correction — with 10–18
+collision responses a frame and contact planes carrying the held cloth between them) against
+the **explicit reference**, the same integrator with a response after every cloth step (the
+seed's scheme, ≈ 95 a frame): each one's ms per frame and errors, their ratio, and the
+default's per-vertex RMS distance to the reference and hem swing against it.
 """
 
 from __future__ import annotations
@@ -63,7 +70,8 @@ def paper_inputs(seconds: float):
 
 
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
-        progress=None, threads: int = 2, walk: dict | None = None) -> dict:
+        progress=None, threads: int = 2, walk: dict | None = None,
+        reference: bool = True) -> dict:
     from catwalk.bench import cpu_model
     from catwalk.bench.collide import figure10_displacement
     from catwalk.cloth.solver import ClothExplosionError
@@ -91,31 +99,102 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
                                                  "settle_sim_s", "settled", "seam_gap_m")},
         "frames": motion.frames, "paper": PAPER, "target": TARGET, "walk_settings": walk or {},
     }
+    walks = {}
     for mode in modes:
         try:
             w = walk_on(body, motion, dressed, walking.with_(collider=mode), progress=progress)
         except ClothExplosionError as exc:
             out[mode] = {"exploded": str(exc)}
             continue
-        s = w.stats
-        out[mode] = {
-            "ms_per_frame": round(s["ms_per_frame"]["collider"] + s["ms_per_frame"]["cloth"], 2),
-            **_threaded(body, motion, dressed, walking.with_(collider=mode), threads, w),
-            "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
-            "max_penetration_mm": round(s["max_penetration_mm"], 2),
-            "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
-            "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
-            "cloth_steps_per_frame": s["cloth_steps_per_frame"],
-            "collisions_per_frame": s["collisions_per_frame"],
-            # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the
-            # points searched in a hierarchy or looked up in the maps, "reused": answered by
-            # their kept triangle, "clearance_skips": far enough not to look)
-            "collider_counts_per_response": {
-                k: round(v / s["collider_calls"], 1) for k, v in s["collider_counts"].items()},
-        }
+        walks[mode] = w
+        out[mode] = {**_walk_figures(w),
+                     **_threaded(body, motion, dressed, walking.with_(collider=mode), threads,
+                                 w)}
+    default = walking.collider
+    if default in walks and reference:
+        out.update(_against_reference(body, motion, dressed, walking, walks[default],
+                                      out[default], progress))
     out["figure10"] = figure10_displacement()
     out["tryon_4s_warm"] = warm_tryon(body, garment, size)
     return out
+
+
+def _walk_figures(w) -> dict:
+    """A walk's cost and errors as the table reports them."""
+    s = w.stats
+    return {
+        "ms_per_frame": round(s["ms_per_frame"]["collider"] + s["ms_per_frame"]["cloth"], 2),
+        "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
+        "max_penetration_mm": round(s["max_penetration_mm"], 2),
+        "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
+        "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
+        "cloth_steps_per_frame": s["cloth_steps_per_frame"],
+        "collisions_per_frame": s["collisions_per_frame"],
+        # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the
+        # points searched in a hierarchy or looked up in the maps, "reused": answered by
+        # their kept triangle, "clearance_skips": far enough not to look)
+        "collider_counts_per_response": {
+            k: round(v / s["collider_calls"], 1) for k, v in s["collider_counts"].items()},
+    }
+
+
+def reference_walk_settings(walking, steps_per_frame: int):
+    """The explicit reference: the walk's settings with a collision response after every
+    cloth step (the seed's scheme: ``steps_per_frame`` responses in every frame), so that no
+    contact plane has to carry the cloth between two."""
+    n = int(steps_per_frame)
+    return walking.with_(min_collisions=n, max_collisions=n)
+
+
+ERROR_KEYS = ("max_penetration_mm", "p99_penetration_mm", "max_strain", "p99_strain")
+
+
+def _against_reference(body, motion, dressed, walking, default_walk, default: dict,
+                       progress) -> dict:
+    """``default`` (the product's walk: its integrator, collider and responses a frame) and
+    ``reference`` (:func:`reference_walk_settings`) blocks: each one's ms per frame and
+    errors, the time ratio, and the default's fidelity to the reference — per-vertex RMS
+    distance and the hem's swing (:mod:`catwalk.simulate.fidelity`) — beside ``noise_mm``,
+    the same distance between the default walk and itself started from the drape moved
+    0.1 mm (the cloth is chaotic: nearer than that is no difference)."""
+    from dataclasses import replace
+
+    from catwalk.cloth.solver import ClothExplosionError
+    from catwalk.simulate.fidelity import hem_points, hem_swing, vertex_rms
+    from catwalk.simulate.walking import walk as walk_on
+
+    settings = reference_walk_settings(walking, default["cloth_steps_per_frame"])
+    block = {"integrator": "explicit", "collider": walking.collider,
+             "ms_per_frame": default["ms_per_frame"],
+             "ms_per_frame_2cores": default.get("ms_per_frame_2cores"),
+             **{k: default[k] for k in ERROR_KEYS},
+             "collisions_per_frame": default["collisions_per_frame"]}
+    try:
+        ref = walk_on(body, motion, dressed, settings, progress=progress)
+    except ClothExplosionError as exc:
+        return {"default": block, "reference": {"exploded": str(exc)}}
+    r = _walk_figures(ref)
+    # the chaotic floor: the default walk again from the drape moved 0.1 mm
+    state = dressed.state.copy()
+    state.positions[:, 0] += 1e-4
+    again = walk_on(body, motion, replace(dressed, state=state), walking, measure=False)
+    hem = hem_points(ref.positions)
+    swing_ref = hem_swing(ref.positions, hem)
+    swing = hem_swing(default_walk.positions, hem)
+    block.update(rms_to_reference_mm=round(1e3 * vertex_rms(default_walk.positions,
+                                                             ref.positions), 2),
+                 noise_mm=round(1e3 * vertex_rms(default_walk.positions, again.positions), 2),
+                 # the same walk's hem swing from the moved drape: its own spread
+                 noise_hem_swing_mm=round(1e3 * hem_swing(again.positions, hem), 2),
+                 hem_swing_mm=round(1e3 * swing, 2),
+                 hem_swing_ratio=round(swing / swing_ref, 3) if swing_ref > 0 else None)
+    reference = {"integrator": "explicit", "collider": settings.collider,
+                 "responses": "one after every cloth step",
+                 "ms_per_frame": r["ms_per_frame"], **{k: r[k] for k in ERROR_KEYS},
+                 "collisions_per_frame": r["collisions_per_frame"],
+                 "hem_swing_mm": round(1e3 * swing_ref, 2), "hem_points": int(len(hem)),
+                 "ratio_to_default": round(r["ms_per_frame"] / default["ms_per_frame"], 2)}
+    return {"default": block, "reference": reference}
 
 
 def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
@@ -197,12 +276,29 @@ def format_table(r: dict) -> str:
         f"{TARGET['hybrid_ms_per_frame']} ms/frame with max penetration ≤ "
         f"{TARGET['max_penetration_mm']} mm",
         _tryon_line(r),
+        _reference_line(r),
         "figure 10 (capsule mannequin, forearm across the torso, panel 6 mm over it, one "
         "resolve): " + ", ".join(
             f"{k}: moved ≤ {v['max_displacement_mm']} mm, {v['points_moved_over_1cm']} of "
             f"{v['panel_points']} points > 1 cm" for k, v in r["figure10"].items()),
     ]
     return "\n".join(lines)
+
+
+def _reference_line(r: dict) -> str:
+    d, ref = r.get("default"), r.get("reference")
+    if not d or not ref:
+        return "explicit reference (a response after every cloth step): not run"
+    if "exploded" in ref:
+        return f"explicit reference (a response after every cloth step): exploded: " \
+               f"{ref['exploded']}"
+    return (f"explicit reference (a response after every cloth step, "
+            f"{ref['collisions_per_frame']['mean']:.0f} a frame): {ref['ms_per_frame']:.1f} "
+            f"ms/frame, {ref['ratio_to_default']:.2f}× the default's; max penetration "
+            f"{ref['max_penetration_mm']:.2f} mm, max strain {ref['max_strain']:.3f}; the "
+            f"default against it: per-vertex RMS {d['rms_to_reference_mm']:.1f} mm (noise "
+            f"floor {d['noise_mm']:.1f} mm), hem swing {d['hem_swing_mm']:.1f} against "
+            f"{ref['hem_swing_mm']:.1f} mm (ratio {d['hem_swing_ratio']})")
 
 
 def _tryon_line(r: dict) -> str:
@@ -231,6 +327,9 @@ def register(bench) -> None:
     p.add_argument("--threads", type=int, default=2,
                    help="also walk each mode with the collider's object and image passes "
                    "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
+    p.add_argument("--no-reference", dest="reference", action="store_false",
+                   help="skip the explicit reference walk (a response after every cloth step: "
+                   "≈ 5× the default walk's time) and the default's fidelity to it")
     add_walk_settings(p)
     add_output_flags(p)
     p.set_defaults(func=main)
@@ -250,7 +349,7 @@ def main(args) -> int:
         r = run(args.seconds, tuple(args.modes),
                 progress=lambda stage, i, total: bar(i / total if total else 1.0, stage),
                 threads=args.threads,
-                walk=walk_settings(args))
+                walk=walk_settings(args), reference=args.reference)
     finally:
         bar.done()
     print(json.dumps(r, indent=2) if args.json else format_table(r))
