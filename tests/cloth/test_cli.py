@@ -19,14 +19,37 @@ def test_bench_drape_json(capsys):
     assert main(["bench", "drape", "--json", "--fabrics", "denim", "--h", "0.03",
                  "--max-seconds", "0.3"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert list(res) == ["fabrics"]
+    assert list(res) == ["fabrics", "against_measured", "probes"]
     assert set(res["fabrics"]["denim"]) == {"dc", "h", "nodes"}
     assert res["fabrics"]["denim"]["h"] == 0.03
     assert isinstance(res["fabrics"]["denim"]["nodes"], int)
+    assert res["against_measured"] == {}   # denim's DC was not measured
+
+
+def test_bench_drape_says_the_error_against_the_measured_fabrics_and_probes_a_property(
+        capsys):
+    args = ["bench", "drape", "--json", "--fabrics", "m2,m6", "--h", "0.03",
+            "--max-seconds", "0.3"]
+    assert main(args) == 0
+    res = json.loads(capsys.readouterr().out)
+    m = res["against_measured"]
+    assert set(m["fabrics"]) == {"m2", "m6"}
+    assert m["fabrics"]["m6"]["measured"] == 0.549
+    assert m["fabrics"]["m6"]["error"] == round(res["fabrics"]["m6"]["dc"] - 0.549, 4)
+    assert m["clo3d_mean_abs_error"] == round((abs(0.313 - 0.228) + abs(0.613 - 0.549)) / 2, 4)
+    assert m["mean_abs_error"] == round(sum(abs(r["error"]) for r in m["fabrics"].values()) / 2,
+                                        4)
+    # a stiffer bend holds the specimen out further
+    assert main([*args, "--bend-scale", "30"]) == 0
+    stiff = json.loads(capsys.readouterr().out)
+    assert stiff["probes"]["bend_scale"] == 30
+    assert stiff["fabrics"]["m2"]["dc"] > res["fabrics"]["m2"]["dc"] + 0.05
 
 
 def test_bench_bad_input_exits_2():
     for args in (["bench", "drape", "--fabrics", "tweed"], ["bench", "cloth", "--h", "-1"],
+                 ["bench", "drape", "--shear-scale", "0"],
+                 ["bench", "drape", "--compression", "1.5"],
                  ["bench", "cloth", "--methods", "magic"]):
         res = subprocess.run([sys.executable, "-m", "catwalk.cli", *args], capture_output=True,
                              text=True)

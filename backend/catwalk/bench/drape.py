@@ -1,11 +1,18 @@
 """``catwalk bench drape``: the Cusick drape test (30 cm specimen on an 18 cm support disc) for
 every fabric preset and the six measured fabrics of Petrak et al. 2025; prints each drape
 coefficient DC = (shadow − disc) / (specimen − disc), its number of nodes (folds hanging
-outward: :func:`catwalk.cloth.drape.drape_nodes`) and the grid spacing h used."""
+outward: :func:`catwalk.cloth.drape.drape_nodes`) and the grid spacing h used; for m1–m6 also
+the measured DC and CLO3D's, our error and the mean absolute errors.
+
+``--bend-scale``, ``--shear-scale``, ``--compression``: the same fabrics with their bending
+rigidity or shear stiffness scaled, or another compression share — what each property moves
+the drape by (docs/cloth.md, "What each property moves")."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
 import time
 from pathlib import Path
 
@@ -13,6 +20,39 @@ from catwalk.bench.cloth import machine
 from catwalk.cloth.drape import cusick_drape
 from catwalk.cloth.fabrics import PRESETS, get_fabric, load_petrak
 from catwalk.errors import InputError
+
+#: Cusick DC of m1–m6 measured and simulated by CLO3D from the same KES-derived inputs (Petrak
+#: et al., Sustainability 2025, 17, 1388, tables 4–5, as transcribed with the fabrics'
+#: properties: shared/data/fabrics/petrak2025-woven.json; check against the paper)
+MEASURED_DC = {"m1": (0.223, 0.349), "m2": (0.228, 0.313), "m3": (0.349, 0.404),
+               "m4": (0.286, 0.323), "m5": (0.443, 0.438), "m6": (0.549, 0.613)}
+
+
+def probed(fabric_id: str, bend_scale: float = 1.0, shear_scale: float = 1.0,
+           compression: float | None = None):
+    """The fabric with its bending rigidity and shear stiffness scaled and its compression
+    share replaced (None: its own)."""
+    f = get_fabric(fabric_id)
+    if bend_scale == 1.0 and shear_scale == 1.0 and compression is None:
+        return f
+    return dataclasses.replace(
+        f, bend_warp=f.bend_warp * bend_scale, bend_weft=f.bend_weft * bend_scale,
+        shear=f.shear * shear_scale,
+        compression=f.compression if compression is None else compression).validate()
+
+
+def against_measured(dcs: dict) -> dict:
+    """For the fabrics of ``dcs`` whose DC was measured: measured, CLO3D's, our error; and the
+    mean absolute errors, ours and CLO3D's, over them."""
+    rows = {k: {"measured": m, "clo3d": c, "error": round(dcs[k] - m, 4)}
+            for k, (m, c) in MEASURED_DC.items() if k in dcs}
+    if not rows:
+        return {}
+    n = len(rows)
+    return {"fabrics": rows,
+            "mean_abs_error": round(sum(abs(r["error"]) for r in rows.values()) / n, 4),
+            "clo3d_mean_abs_error": round(sum(abs(r["clo3d"] - r["measured"])
+                                              for r in rows.values()) / n, 4)}
 
 
 def fabric_ids(only: str = "") -> list[str]:
@@ -25,13 +65,19 @@ def fabric_ids(only: str = "") -> list[str]:
 
 
 def main(args) -> int:
-    if args.h <= 0:
+    if not (math.isfinite(args.h) and args.h > 0):
         raise InputError("--h must be a positive number of metres")
+    for flag, v in (("--bend-scale", args.bend_scale), ("--shear-scale", args.shear_scale)):
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"{flag} must be a positive factor, got {v}")
+    if args.compression is not None and not 0.0 <= args.compression <= 1.0:
+        raise InputError(f"--compression must be within 0–1, got {args.compression}")
     out = {}
     rows = []
     for fid in fabric_ids(args.fabrics):
+        fabric = probed(fid, args.bend_scale, args.shear_scale, args.compression)
         t0 = time.perf_counter()
-        r = cusick_drape(fid, h=args.h, method=args.method, max_seconds=args.max_seconds)
+        r = cusick_drape(fabric, h=args.h, method=args.method, max_seconds=args.max_seconds)
         wall = time.perf_counter() - t0
         out[fid] = {"dc": r.dc, "h": r.h, "nodes": r.nodes}
         rows.append((fid, get_fabric(fid).name, r, wall))
@@ -40,16 +86,27 @@ def main(args) -> int:
 
             render_cloth(r.model, r.state.positions, Path(args.png) / f"drape-{fid}.png",
                          view=30, size=(480, 320), floor=False)
+    measured = against_measured({k: v["dc"] for k, v in out.items()})
+    probes = {"bend_scale": args.bend_scale, "shear_scale": args.shear_scale,
+              "compression": args.compression}
     if args.json:
-        print(json.dumps({"fabrics": out}))
+        print(json.dumps({"fabrics": out, "against_measured": measured, "probes": probes}))
         return 0
     print(f"Cusick drape: 30 cm specimen on an 18 cm disc, method {args.method}; "
           f"machine: {machine()}")
-    print(f"{'fabric':<15} {'DC':>6} {'nodes':>5} {'h (m)':>7} {'sim s':>6} {'settled':>8} "
-          f"{'wall s':>7}  name")
+    if probes != {"bend_scale": 1.0, "shear_scale": 1.0, "compression": None}:
+        print(f"fabrics probed: B × {args.bend_scale:g}, G × {args.shear_scale:g}, compression "
+              f"{'as given' if args.compression is None else f'{args.compression:g}'}")
+    print(f"{'fabric':<15} {'DC':>6} {'measured':>8} {'CLO3D':>6} {'nodes':>5} {'h (m)':>7} "
+          f"{'sim s':>6} {'settled':>8} {'wall s':>7}  name")
     for fid, name, r, wall in rows:
-        print(f"{fid:<15} {r.dc:>6.3f} {r.nodes:>5} {r.h:>7.3f} {r.seconds:>6.2f} "
-              f"{str(r.settled):>8} {wall:>7.1f}  {name}")
+        m = measured.get("fabrics", {}).get(fid)
+        ms, cs = (f"{m['measured']:.3f}", f"{m['clo3d']:.3f}") if m else ("—", "—")
+        print(f"{fid:<15} {r.dc:>6.3f} {ms:>8} {cs:>6} {r.nodes:>5} {r.h:>7.3f} "
+              f"{r.seconds:>6.2f} {str(r.settled):>8} {wall:>7.1f}  {name}")
+    if measured:
+        print(f"mean |DC − measured| over {len(measured['fabrics'])} measured fabrics: ours "
+              f"{measured['mean_abs_error']:.3f}, CLO3D {measured['clo3d_mean_abs_error']:.3f}")
     return 0
 
 
@@ -60,6 +117,12 @@ def register(bench) -> None:
     p.add_argument("--method", default="ordered", help="strain-limit method")
     p.add_argument("--max-seconds", type=float, default=6.0,
                    help="simulated seconds at most, if it has not settled before")
+    p.add_argument("--bend-scale", type=float, default=1.0, metavar="X",
+                   help="scale every fabric's bending rigidity by X (what it moves the DC by)")
+    p.add_argument("--shear-scale", type=float, default=1.0, metavar="X",
+                   help="scale every fabric's shear stiffness by X")
+    p.add_argument("--compression", type=float, default=None, metavar="C",
+                   help="every fabric's compression share (0–1; default: its own)")
     p.add_argument("--png", default="", help="folder to write a rendered PNG per fabric")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=main)
