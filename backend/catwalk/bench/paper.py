@@ -125,6 +125,8 @@ def _walk_figures(w) -> dict:
     return {
         "ms_per_frame": round(s["ms_per_frame"]["collider"] + s["ms_per_frame"]["cloth"], 2),
         "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
+        # the same time by stage, in the order a frame runs them (walking.FRAME_STAGES)
+        "frame_ms": s["frame_ms"],
         "max_penetration_mm": round(s["max_penetration_mm"], 2),
         "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
         "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),

@@ -19,6 +19,7 @@ UVs), and the costs and errors of every frame.
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -132,14 +133,17 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
     x0 = state.positions.copy()
     counts0 = collider.stats.copy()
+    timings0 = copy.copy(collider.timings)
     for f in range(1, len(verts)):
         if cancel():
             raise Cancelled("try-on cancelled")
         if f == n_pre:   # the recorded frames' collider work from here
             counts0 = collider.stats.copy()
+            timings0 = copy.copy(collider.timings)
         try:
-            n_col, tc, tcl = _step_frame(solver, model, state, collider, verts[f - 1], verts[f],
-                                         vels[f], frame_dt, x0, settings, tally, cancel)
+            n_col, tc, tcl, clock = _step_frame(solver, model, state, collider, verts[f - 1],
+                                                verts[f], vels[f], frame_dt, x0, settings, tally,
+                                                cancel)
         except ClothExplosionError as exc:
             raise ClothExplosionError(f"walk frame {f - n_pre} (t = {(f - n_pre) * frame_dt:.3f} "
                                       f"s): {exc}") from None
@@ -154,6 +158,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         n_sharp = collider.push_off_sharp(xs, model.triangles)
         tally.t_col += tc + time.perf_counter() - t2
         tally.t_cloth += tcl
+        tally.t_correction += clock.get("correction", 0.0)
         tally.ncols.append(n_col)
         out[rec] = xs[dressed.rep]
         tally.frame(model, state, xs, verts[f], n_sharp)
@@ -171,7 +176,29 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                                     strict=True)),
         "collider_calls": int(sum(tally.ncols)) + int(nf),
     }
+    stats["frame_ms"] = frame_costs(stats["ms_per_frame"], collider.timings, timings0,
+                                    tally.t_correction * 1e3 / max(1, nf), nf)
     return Walked(np.arange(nf) / motion.fps, out, stats)
+
+
+#: what a recorded frame's collider time is spent on, in the order a frame does it (the
+#: collider's :class:`~catwalk.collide.collider.Timings`, CPU seconds of the walking thread)
+FRAME_STAGES = (("normals", "normals"), ("refits", "refit"), ("maps", "maps"),
+                ("image_look_ups", "image_queries"), ("object_passes", "object_queries"),
+                ("sharp_push", "sharp"))
+
+
+def frame_costs(ms: dict, timings, timings0, correction_ms: float, frames: int) -> dict:
+    """ms per recorded frame of each stage (:data:`FRAME_STAGES`, Provot's position
+    correction after each response, the cloth's steps) and ``other`` (the rest of the
+    collider's and the cloth's time: the floor, the speed cap, the responses' bookkeeping)."""
+    n = max(1, frames)
+    out = {name: 1e3 * (getattr(timings, key) - getattr(timings0, key)) / n
+           for name, key in FRAME_STAGES}
+    out["position_correction"] = correction_ms
+    out["cloth_steps"] = ms["cloth"]
+    out["other"] = ms["collider"] + ms["cloth"] - sum(out.values())
+    return {k: round(v, 2) for k, v in out.items()}
 
 
 def _solver(dressed: Dressed, settings: Settings) -> Solver:
@@ -186,10 +213,10 @@ def _solver(dressed: Dressed, settings: Settings) -> Solver:
 
 
 def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_dt, x0,
-                settings: Settings, tally, cancel) -> tuple[int, float, float]:
+                settings: Settings, tally, cancel) -> tuple[int, float, float, dict]:
     """One frame: the collider given the body's next pose, the cloth advanced over the frame
     with its resolves, then one resolve at the frame's time. Returns the resolves, the
-    collider's seconds and the cloth's."""
+    collider's seconds, the cloth's and the stepping's clock (:func:`advance`)."""
     n_col = collisions_for(max_move(v_next, v_prev), settings)
     clock = {}
     t0 = time.perf_counter()
@@ -203,7 +230,7 @@ def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_
     collide_and_floor(state, collider, x0, 1.0)
     tc += time.perf_counter() - t2 + clock.get("collider", 0.0)
     tally.slowed += clock.get("slowed", 0)
-    return n_col, tc, clock.get("cloth", 0.0)
+    return n_col, tc, clock.get("cloth", 0.0), clock
 
 
 @dataclass
@@ -212,6 +239,7 @@ class _Tally:
     surface: BodySurface | None
     t_col: float = 0.0
     t_cloth: float = 0.0
+    t_correction: float = 0.0
     slowed: int = 0
     sharp: int = 0
     sharp_mm: float = 0.0
