@@ -154,37 +154,30 @@ def test_spring_constants_are_resolution_independent():
 
 
 
-def _grid_energy(fabric_id, deform):
-    """(elastic energy of a 0.3 × 0.2 m grid at h = 2 cm after ``deform(x0)``, the fabric)."""
+
+def _stretched_energy(fabric_id, eps):
     from catwalk.cloth import kernels as K
 
     fab = get_fabric(fabric_id)
     m = build_cloth([Panel(rectangle(0.3, 0.2))], fabric=fab, h=0.02)
-    x = deform(m.rest_positions.copy())
+    x = m.rest_positions * [1 + eps, 1, 1]
     return K.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
                            fab.compression), fab
-
-
-def _sheared(deg):
-    def deform(x):
-        g = np.radians(deg)
-        x0 = x.copy()
-        x[:, 0] += 0.5 * g * x0[:, 1]
-        x[:, 1] += 0.5 * g * x0[:, 0]
-        return x
-    return deform
 
 
 @pytest.mark.parametrize("fabric_id", ["m1", "m6", "cotton-jersey"])
 def test_a_stretched_grid_stores_the_fabric_s_tensile_energy(fabric_id):
     """A weft strain of 1 % stores ½Eε² per unit area: the x springs of the 11 rows (the outer
-    two stand for half-width strips, so 11/10 of the area) and the cells' diagonals."""
+    two stand for half-width strips, so 11/10 of the area) and the cells' diagonals; sheared
+    within the soft band of compression (below ≈ 1°: both diagonals still stiff), ½Gγ²
+    (`catwalk.cloth.scenes.sheared_grid_energy`, what `catwalk bench cloth` reports)."""
+    from catwalk.cloth.scenes import sheared_grid_energy
+
     eps = 0.01
-    e, fab = _grid_energy(fabric_id, lambda x: x * [1 + eps, 1, 1])
+    e, fab = _stretched_energy(fabric_id, eps)
     assert e == pytest.approx(0.5 * fab.stretch_weft * eps * eps * 0.06 * 11 / 10, rel=0.05)
-    # shear within the soft band of compression (below ≈ 1°: both diagonals still stiff)
-    e, fab = _grid_energy(fabric_id, _sheared(0.5))
-    assert e == pytest.approx(0.5 * fab.shear * np.radians(0.5) ** 2 * 0.06, rel=0.1)
+    e, continuum = sheared_grid_energy(fabric_id, 0.5)
+    assert e == pytest.approx(continuum, rel=0.1)
 
 
 @pytest.mark.xfail(strict=True, reason="the diagonal springs stand for shear and soften under "
@@ -192,5 +185,7 @@ def test_a_stretched_grid_stores_the_fabric_s_tensile_energy(fabric_id):
                    "grid stores 0.75–0.63 of ½Gγ² (docs/cloth.md, \"Shear\")")
 @pytest.mark.parametrize("deg", [2.0, 5.0])
 def test_a_sheared_grid_stores_the_fabric_s_shear_energy_where_kes_measures_it(deg):
-    e, fab = _grid_energy("m1", _sheared(deg))
-    assert e == pytest.approx(0.5 * fab.shear * np.radians(deg) ** 2 * 0.06, rel=0.1)
+    from catwalk.cloth.scenes import sheared_grid_energy
+
+    e, continuum = sheared_grid_energy("m1", deg)
+    assert e == pytest.approx(continuum, rel=0.1)

@@ -8,7 +8,12 @@ from catwalk.cli import main
 def test_bench_cloth_json(capsys):
     assert main(["bench", "cloth", "--json", "--steps", "20", "--settle", "0.02"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert set(res) == {"points", "springs", "methods"}
+    assert set(res) == {"points", "springs", "methods", "shear_energy_ratio"}
+    # the grid's shear stiffness against the fabric's: whole below the compression's soft
+    # band, falling towards (1 + 0.05)/2 beyond it (docs/cloth.md)
+    sr = res["shear_energy_ratio"]
+    assert list(sr) == ["0.5", "1.0", "2.0", "5.0", "10.0"]
+    assert sr["0.5"] > 0.9 and sr["10.0"] < 0.65 and sr["5.0"] < sr["2.0"] < sr["0.5"]
     assert abs(res["points"] - 3372) < 100 and abs(res["springs"] - 18623) < 1500
     assert set(res["methods"]) == {"none", "ordered", "vassilev", "provot"}
     for r in res["methods"].values():

@@ -23,7 +23,7 @@ import time
 
 from catwalk.bench import cpu_model
 from catwalk.cloth.fabrics import get_fabric
-from catwalk.cloth.scenes import paper_size_cloth
+from catwalk.cloth.scenes import paper_size_cloth, shear_energy_ratio
 from catwalk.cloth.solver import INTEGRATORS, METHODS, Solver, max_strain
 from catwalk.errors import InputError
 
@@ -71,7 +71,9 @@ def run(fabric="cotton-jersey", h=0.015, steps=2000, settle=1.0, methods=None,
             raise InputError(f"unknown integrator {name!r} (choose from "
                                f"{', '.join(INTEGRATORS)})")
     model, state0 = paper_size_cloth(fab, h=h)
-    out = {"points": model.n_points, "springs": model.n_springs, "methods": {}}
+    out = {"points": model.n_points, "springs": model.n_springs, "methods": {},
+           # the grid's shear energy against the fabric's ½Gγ² at each angle (degrees)
+           "shear_energy_ratio": shear_energy_ratio(fab)}
     extra = {"dt": None, "tau": fab.tau, "fabric": fab.id, "h": h}
     for name in methods:
         state = state0.copy()
@@ -115,6 +117,8 @@ def main(args) -> int:
     print(f"{'method':<10} {'us/step':>10} {'max strain':>11}")
     for name, r in res["methods"].items():
         print(f"{name:<10} {r['us_per_step']:>10.1f} {r['max_strain']:>11.4f}")
+    print("shear energy / ½Gγ² of the fabric (the grid sheared by γ, h = 2 cm): " + ", ".join(
+        f"{d:g}° {r:.3f}" for d, r in res["shear_energy_ratio"].items()))
     if "integrators" in res:
         print(f"{'integrator':<10} {'dt us':>8} {'us/step':>10} {'us/sim ms':>10} "
               f"{'max strain':>11}")

@@ -31,6 +31,8 @@ import itertools
 import json
 import time
 
+from catwalk.simulate.fidelity import NUDGE
+
 REFERENCE_H = 0.01
 RESOLVES = {"5": {"min_collisions": 5, "max_move": 0.02},
             "10": {"min_collisions": 10, "max_move": 0.01},
@@ -115,15 +117,13 @@ class _Scene:
         return dress(self.body, self.garment, "M", settings=settings)
 
     def walk(self, dressed, settings, nudge: float = 0.0) -> dict:
-        """The walk from ``dressed`` (moved ``nudge`` metres along x first, on a copy)."""
-        from dataclasses import replace
-
+        """The walk from ``dressed`` (moved ``nudge`` metres along x first, on a copy:
+        :func:`catwalk.simulate.fidelity.nudged`)."""
+        from catwalk.simulate.fidelity import nudged
         from catwalk.simulate.walking import walk
 
         if nudge:
-            state = dressed.state.copy()
-            state.positions[:, 0] += nudge
-            dressed = replace(dressed, state=state)
+            dressed = nudged(dressed, nudge)
         w = walk(self.body, self.motion, dressed, settings)
         return {"positions": w.positions, "triangles": dressed.cloth.model.triangles,
                 "stats": w.stats, "points": w.stats["points"]}
@@ -147,7 +147,7 @@ def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "
     ref = scene.walk(ref_dressed, ref_settings)
     ref_s = time.perf_counter() - t0
     progress("noise floor")
-    nudged = scene.walk(ref_dressed, ref_settings, nudge=1e-4)
+    nudged = scene.walk(ref_dressed, ref_settings, nudge=NUDGE)
     noise = surface_rms(ref["positions"], ref["triangles"], nudged["positions"],
                         nudged["triangles"])
     out = {"machine": {"cpu": cpu_model(), "threads": 1}, "seconds": seconds,

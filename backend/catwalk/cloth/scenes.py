@@ -41,3 +41,34 @@ def paper_size_cloth(fabric="cotton-jersey", h: float = 0.015) -> tuple[ClothMod
     """A cloth pinned at two corners with about the paper's 3,372 points (58 × 58 grid)."""
     side = round(math.sqrt(PAPER_POINTS)) - 1  # intervals per side
     return hanging_cloth(side * h, side * h, h=h, fabric=fabric, pins="corners")
+
+
+#: the shear angles (degrees) :func:`shear_energy_ratio` is reported at by ``bench cloth``:
+#: KES measures G as the slope between 0.5° and 5°
+SHEAR_DEGREES = (0.5, 1.0, 2.0, 5.0, 10.0)
+
+
+def sheared_grid_energy(fabric, degrees: float, h: float = 0.02) -> tuple[float, float]:
+    """(the springs' elastic energy, the continuum's ½·G·γ²·area) of a 0.3 × 0.2 m grid of
+    ``fabric`` at spacing ``h`` in pure shear by ``degrees`` (in its plane): how much of the
+    fabric's shear stiffness the grid carries at that angle (docs/cloth.md, "Fabric → spring
+    constants")."""
+    from catwalk.cloth import kernels as K
+    from catwalk.cloth.fabrics import get_fabric
+
+    fab = get_fabric(fabric)
+    m = build_cloth([Panel(rectangle(0.3, 0.2))], fabric=fab, h=h)
+    g = math.radians(degrees)
+    x0 = m.rest_positions
+    x = x0.copy()
+    x[:, 0] += 0.5 * g * x0[:, 1]
+    x[:, 1] += 0.5 * g * x0[:, 0]
+    e = K.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
+                        fab.compression)
+    return float(e), 0.5 * fab.shear * g * g * 0.3 * 0.2
+
+
+def shear_energy_ratio(fabric, degrees=SHEAR_DEGREES, h: float = 0.02) -> dict:
+    """{degrees: the grid's shear energy / the continuum's} (:func:`sheared_grid_energy`)."""
+    return {float(d): round(e / c, 4) for d in degrees
+            for e, c in [sheared_grid_energy(fabric, d, h)]}
