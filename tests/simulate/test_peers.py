@@ -65,15 +65,17 @@ def test_the_measures_are_the_walks_own(scene):
     seen = c["clearance_skips"] + c["reused"] + c["boxed"] + c["skipped"]
     assert w.stats["collider"] == "object" and c["boxed"] > 0 and c["contacts"] > 0
     assert seen == calls * w.stats["points"]
-    # a frame's time by stage, in the order a frame runs them: object space draws no maps,
-    # and the stages add up to the collider's and the cloth's time
+    # a frame's time by stage, in the order a frame runs them: object space draws no maps;
+    # the measured stages take most of the frame and no more than all of it ("other", the
+    # remainder, is neither negative — a stage counted twice — nor most of the frame — a
+    # stage not counted)
     fm, ms = w.stats["frame_ms"], w.stats["ms_per_frame"]
     assert list(fm) == ["normals", "refits", "maps", "image_look_ups", "object_passes",
                         "sharp_push", "position_correction", "cloth_steps", "other"]
     assert fm["maps"] == fm["image_look_ups"] == 0.0
-    assert fm["object_passes"] > 0 and fm["position_correction"] > 0
-    assert fm["cloth_steps"] == pytest.approx(ms["cloth"], abs=0.01)
-    assert sum(fm.values()) == pytest.approx(ms["collider"] + ms["cloth"], abs=0.05)
+    assert fm["object_passes"] > 0 and fm["position_correction"] > 0 and fm["refits"] > 0
+    frame = ms["collider"] + ms["cloth"]
+    assert -0.05 <= fm["other"] <= 0.3 * frame, fm
     # cloth pulled 3 cm towards the body's axis is inside it, and the measure says so
     x = pos.copy()
     c = x.mean(axis=1, keepdims=True)
