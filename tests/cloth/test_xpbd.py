@@ -81,7 +81,7 @@ def test_bench_cloth_compares_integrators_on_request(capsys):
     assert main(["bench", "cloth", "--json", "--steps", "20", "--settle", "0.02", "--methods",
                  "ordered", "--integrators", "xpbd", "--xpbd-iterations", "2"]) == 0
     res = json.loads(capsys.readouterr().out)
-    assert set(res) == {"points", "springs", "methods", "integrators"}
+    assert set(res) == {"points", "springs", "methods", "shear_energy_ratio", "integrators"}
     assert set(res["integrators"]) == {"explicit", "xpbd"}
     for r in res["integrators"].values():
         assert r["us_per_step"] > 0 and r["dt"] > 0 and r["max_strain"] > 0
