@@ -153,28 +153,16 @@ def test_spring_constants_are_resolution_independent():
     assert k1[3] * 0.01 ** 4 == pytest.approx(k2[3] * 0.02 ** 4)
 
 
-
-
-def _stretched_energy(fabric_id, eps):
-    from catwalk.cloth import kernels as K
-
-    fab = get_fabric(fabric_id)
-    m = build_cloth([Panel(rectangle(0.3, 0.2))], fabric=fab, h=0.02)
-    x = m.rest_positions * [1 + eps, 1, 1]
-    return K.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
-                           fab.compression), fab
-
-
 @pytest.mark.parametrize("fabric_id", ["m1", "m6", "cotton-jersey"])
 def test_a_stretched_grid_stores_the_fabric_s_tensile_energy(fabric_id):
     """A weft strain of 1 % stores ½Eε² per unit area: the x springs of the 11 rows (the outer
     two stand for half-width strips, so 11/10 of the area) and the cells' diagonals; sheared
     within the soft band of compression (below ≈ 1°: both diagonals still stiff), ½Gγ²
     (`catwalk.cloth.scenes.sheared_grid_energy`, what `catwalk bench cloth` reports)."""
-    from catwalk.cloth.scenes import sheared_grid_energy
+    from catwalk.cloth.scenes import grid_energy, sheared_grid_energy
 
     eps = 0.01
-    e, fab = _stretched_energy(fabric_id, eps)
+    e, fab = grid_energy(fabric_id, lambda x: x * [1 + eps, 1, 1])
     assert e == pytest.approx(0.5 * fab.stretch_weft * eps * eps * 0.06 * 11 / 10, rel=0.05)
     e, continuum = sheared_grid_energy(fabric_id, 0.5)
     assert e == pytest.approx(continuum, rel=0.1)

@@ -147,9 +147,9 @@ def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "
     ref = scene.walk(ref_dressed, ref_settings)
     ref_s = time.perf_counter() - t0
     progress("noise floor")
-    nudged = scene.walk(ref_dressed, ref_settings, nudge=NUDGE)
-    noise = surface_rms(ref["positions"], ref["triangles"], nudged["positions"],
-                        nudged["triangles"])
+    again = scene.walk(ref_dressed, ref_settings, nudge=NUDGE)
+    noise = surface_rms(ref["positions"], ref["triangles"], again["positions"],
+                        again["triangles"])
     out = {"machine": {"cpu": cpu_model(), "threads": 1}, "seconds": seconds,
            "frames": scene.motion.frames,
            "reference": {"settings": _settings_dict(ref_settings), "points": ref["points"],

@@ -48,24 +48,39 @@ def paper_size_cloth(fabric="cotton-jersey", h: float = 0.015) -> tuple[ClothMod
 SHEAR_DEGREES = (0.5, 1.0, 2.0, 5.0, 10.0)
 
 
-def sheared_grid_energy(fabric, degrees: float, h: float = 0.02) -> tuple[float, float]:
-    """(the springs' elastic energy, the continuum's ½·G·γ²·area) of a 0.3 × 0.2 m grid of
-    ``fabric`` at spacing ``h`` in pure shear by ``degrees`` (in its plane): how much of the
-    fabric's shear stiffness the grid carries at that angle (docs/cloth.md, "Fabric → spring
-    constants")."""
+#: the grid :func:`grid_energy` deforms (m): 0.3 × 0.2
+GRID_SIZE = (0.3, 0.2)
+
+
+def grid_energy(fabric, deform, h: float = 0.02):
+    """(the springs' elastic energy, the fabric) of a :data:`GRID_SIZE` grid of ``fabric`` at
+    spacing ``h`` whose rest positions (in the XY plane) ``deform(x0)`` moves (a new array)."""
     from catwalk.cloth import kernels as K
     from catwalk.cloth.fabrics import get_fabric
 
     fab = get_fabric(fabric)
-    m = build_cloth([Panel(rectangle(0.3, 0.2))], fabric=fab, h=h)
-    g = math.radians(degrees)
-    x0 = m.rest_positions
-    x = x0.copy()
-    x[:, 0] += 0.5 * g * x0[:, 1]
-    x[:, 1] += 0.5 * g * x0[:, 0]
+    m = build_cloth([Panel(rectangle(*GRID_SIZE))], fabric=fab, h=h)
+    x = deform(m.rest_positions)
     e = K.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
                         fab.compression)
-    return float(e), 0.5 * fab.shear * g * g * 0.3 * 0.2
+    return float(e), fab
+
+
+def sheared_grid_energy(fabric, degrees: float, h: float = 0.02) -> tuple[float, float]:
+    """(the springs' elastic energy, the continuum's ½·G·γ²·area) of the grid
+    (:func:`grid_energy`) in pure shear by ``degrees`` (in its plane): how much of the
+    fabric's shear stiffness the grid carries at that angle (docs/cloth.md, "Fabric → spring
+    constants")."""
+    g = math.radians(degrees)
+
+    def shear(x0):
+        x = x0.copy()
+        x[:, 0] += 0.5 * g * x0[:, 1]
+        x[:, 1] += 0.5 * g * x0[:, 0]
+        return x
+
+    e, fab = grid_energy(fabric, shear, h)
+    return e, 0.5 * fab.shear * g * g * GRID_SIZE[0] * GRID_SIZE[1]
 
 
 def shear_energy_ratio(fabric, degrees=SHEAR_DEGREES, h: float = 0.02) -> dict:
