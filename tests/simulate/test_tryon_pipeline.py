@@ -75,6 +75,8 @@ def test_tryon_cli_end_to_end(body_glb, tmp_path, repo_root, capsys):
                 "p99_penetration_mm", "max_strain", "max_seam_gap_mm", "nan", "exploded"):
         assert key in m, key
     assert set(m["ms_per_frame"]) >= {"body", "collider", "cloth"}
+    # the springs over τ + 2 % (spring-frames), and of those the ones across the body
+    assert 0 <= m["over_limit_crossing_body"] <= m["springs_over_limit"]
     assert not m["nan"] and not m["exploded"]
     # independent check: skin the body from the file, read the garment frames back
     body = read_body(out)

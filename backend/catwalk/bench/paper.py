@@ -130,6 +130,9 @@ def _walk_figures(w) -> dict:
         "max_penetration_mm": round(s["max_penetration_mm"], 2),
         "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
         "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
+        # spring-frames over τ + 2 %, and of those the ones whose segment crosses the body
+        "springs_over_limit": s.get("springs_over_limit"),
+        "over_limit_crossing_body": s.get("over_limit_crossing_body"),
         "cloth_steps_per_frame": s["cloth_steps_per_frame"],
         "collisions_per_frame": s["collisions_per_frame"],
         # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the

@@ -316,6 +316,39 @@ def closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
 
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def ray_triangle(ox, oy, oz, dx, dy, dz, ax, ay, az, bx, by, bz, cx, cy, cz, eps):
+    """Where the line o + t·d meets triangle abc (Möller & Trumbore 1997): (hit, t, u, v), the
+    point a + u·(b − a) + v·(c − a); no hit where it misses the triangle or runs parallel to
+    it (|det| < ``eps``)."""
+    e1x = bx - ax
+    e1y = by - ay
+    e1z = bz - az
+    e2x = cx - ax
+    e2y = cy - ay
+    e2z = cz - az
+    hx = dy * e2z - dz * e2y
+    hy = dz * e2x - dx * e2z
+    hz = dx * e2y - dy * e2x
+    det = e1x * hx + e1y * hy + e1z * hz
+    if abs(det) < eps:
+        return False, 0.0, 0.0, 0.0
+    inv = 1.0 / det
+    sx = ox - ax
+    sy = oy - ay
+    sz = oz - az
+    u = (sx * hx + sy * hy + sz * hz) * inv
+    if u < 0.0 or u > 1.0:
+        return False, 0.0, u, 0.0
+    qx = sy * e1z - sz * e1y
+    qy = sz * e1x - sx * e1z
+    qz = sx * e1y - sy * e1x
+    v = (dx * qx + dy * qy + dz * qz) * inv
+    if v < 0.0 or u + v > 1.0:
+        return False, 0.0, u, v
+    return True, (e2x * qx + e2y * qy + e2z * qz) * inv, u, v
+
+
 def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:
     """Each leaf's distinct vertices, for :func:`refit_frame`: (``start`` (K+1,), ``verts``)
     with node n's vertices ``verts[start[n]:start[n + 1]]`` in increasing order (none for

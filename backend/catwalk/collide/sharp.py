@@ -21,6 +21,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from catwalk.collide.bvh import ray_triangle
+
 #: a body vertex is sharp when it stands this far (m) out of the mean of its neighbours within
 #: SHARP_RADIUS, along its normal (on the 1.68 m sample bodies: bust points 4–6 mm, fingers,
 #: toes, nose, ears; about a third of the vertices, mostly far from any garment)
@@ -120,33 +122,12 @@ def push_off_sharp(x, tris, ptr, pt_tri, cand, V, N, thickness, depth, cell, mov
                             a = tris[t, 0]
                             b = tris[t, 1]
                             cc = tris[t, 2]
-                            # ray p + s·n against the triangle (Möller–Trumbore)
-                            e1x = x[b, 0] - x[a, 0]
-                            e1y = x[b, 1] - x[a, 1]
-                            e1z = x[b, 2] - x[a, 2]
-                            e2x = x[cc, 0] - x[a, 0]
-                            e2y = x[cc, 1] - x[a, 1]
-                            e2z = x[cc, 2] - x[a, 2]
-                            hx = ny * e2z - nz * e2y
-                            hy = nz * e2x - nx * e2z
-                            hz = nx * e2y - ny * e2x
-                            det = e1x * hx + e1y * hy + e1z * hz
-                            if abs(det) < 1e-14:
+                            # ray p + s·n against the triangle
+                            hit, dist, u, v = ray_triangle(
+                                px, py, pz, nx, ny, nz, x[a, 0], x[a, 1], x[a, 2], x[b, 0],
+                                x[b, 1], x[b, 2], x[cc, 0], x[cc, 1], x[cc, 2], 1e-14)
+                            if not hit:
                                 continue
-                            inv = 1.0 / det
-                            sx = px - x[a, 0]
-                            sy = py - x[a, 1]
-                            sz = pz - x[a, 2]
-                            u = (sx * hx + sy * hy + sz * hz) * inv
-                            if u < 0.0 or u > 1.0:
-                                continue
-                            qx = sy * e1z - sz * e1y
-                            qy = sz * e1x - sx * e1z
-                            qz = sx * e1y - sy * e1x
-                            v = (nx * qx + ny * qy + nz * qz) * inv
-                            if v < 0.0 or u + v > 1.0:
-                                continue
-                            dist = (e2x * qx + e2y * qy + e2z * qz) * inv
                             if dist >= thickness - 1e-6 or dist <= -depth:
                                 continue
                             push = thickness - dist

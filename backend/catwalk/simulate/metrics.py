@@ -1,8 +1,11 @@
-"""Independent accuracy checks of a try-on: how deep cloth points are inside the body.
+"""Independent accuracy checks of a try-on: how deep cloth points are inside the body, and
+which cloth springs cross it.
 
 This does not use the collider: the body surface is searched from the k nearest body vertices
 (scipy's cKDTree) through their incident triangles, and a point's signed distance is measured
 along the body's interpolated vertex normal at its closest surface point (negative = inside).
+A spring crosses the body when the segment between its two points meets a body triangle
+(:func:`segments_crossing`: every triangle tested, for the few springs asked about).
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ import numba
 import numpy as np
 from scipy.spatial import cKDTree
 
-from catwalk.collide.bvh import closest_on_triangle
+from catwalk.collide.bvh import closest_on_triangle, ray_triangle
 from catwalk.errors import InputError
 from catwalk.render.raster import incident_faces, vertex_normals
 
@@ -91,3 +94,42 @@ class BodySurface:
 def penetration(surface: BodySurface, vertices: np.ndarray, points: np.ndarray) -> np.ndarray:
     """Depth (m, ≥ 0) of every point inside the body (0 outside)."""
     return np.maximum(-surface.signed_distance(vertices, points), 0.0)
+
+
+@numba.njit(cache=True)
+def _crossings(a, b, verts, faces, out):
+    for i in range(a.shape[0]):
+        ox, oy, oz = a[i, 0], a[i, 1], a[i, 2]
+        dx, dy, dz = b[i, 0] - ox, b[i, 1] - oy, b[i, 2] - oz
+        lox, hix = min(ox, b[i, 0]), max(ox, b[i, 0])
+        loy, hiy = min(oy, b[i, 1]), max(oy, b[i, 1])
+        loz, hiz = min(oz, b[i, 2]), max(oz, b[i, 2])
+        for f in range(faces.shape[0]):
+            ia, ib, ic = faces[f, 0], faces[f, 1], faces[f, 2]
+            if max(verts[ia, 0], verts[ib, 0], verts[ic, 0]) < lox or \
+                    min(verts[ia, 0], verts[ib, 0], verts[ic, 0]) > hix or \
+                    max(verts[ia, 1], verts[ib, 1], verts[ic, 1]) < loy or \
+                    min(verts[ia, 1], verts[ib, 1], verts[ic, 1]) > hiy or \
+                    max(verts[ia, 2], verts[ib, 2], verts[ic, 2]) < loz or \
+                    min(verts[ia, 2], verts[ib, 2], verts[ic, 2]) > hiz:
+                continue
+            hit, t, _, _ = ray_triangle(ox, oy, oz, dx, dy, dz, verts[ia, 0], verts[ia, 1],
+                                        verts[ia, 2], verts[ib, 0], verts[ib, 1],
+                                        verts[ib, 2], verts[ic, 0], verts[ic, 1],
+                                        verts[ic, 2], 1e-18)
+            if hit and 0.0 <= t <= 1.0:
+                out[i] = True
+                break
+
+
+def segments_crossing(vertices: np.ndarray, faces: np.ndarray, a: np.ndarray,
+                      b: np.ndarray) -> np.ndarray:
+    """Whether each segment from ``a[i]`` to ``b[i]`` meets the body surface (a cloth spring
+    whose two points are outside the body and that meets it hangs across a body part)."""
+    a = np.ascontiguousarray(a, dtype=np.float64).reshape(-1, 3)
+    b = np.ascontiguousarray(b, dtype=np.float64).reshape(-1, 3)
+    out = np.zeros(len(a), dtype=np.bool_)
+    if len(a):
+        _crossings(a, b, np.ascontiguousarray(vertices, dtype=np.float64),
+                   np.ascontiguousarray(faces, dtype=np.int64), out)
+    return out

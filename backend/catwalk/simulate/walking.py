@@ -34,7 +34,7 @@ from catwalk.errors import Cancelled
 from catwalk.motion.skinning import body_frames
 from catwalk.simulate.dressing import Dressed
 from catwalk.simulate.garment_cloth import seam_gaps
-from catwalk.simulate.metrics import BodySurface, penetration
+from catwalk.simulate.metrics import BodySurface, penetration, segments_crossing
 from catwalk.simulate.settings import PRESETS, Settings
 from catwalk.simulate.stepping import (
     ORDER_TOLERANCE,
@@ -128,7 +128,8 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
                              **settings.collider_options(walking=True))
     collider.update(verts[0].astype(np.float64), vels[0].astype(np.float64))
     solver = _solver(dressed, settings)
-    tally = _Tally(BodySurface(body.faces, len(body.vertices)) if measure else None)
+    tally = _Tally(BodySurface(body.faces, len(body.vertices)) if measure else None,
+                   solver.tau)
     nf = motion.frames
     out = np.empty((nf, len(dressed.rep), 3), dtype=np.float32)
     x0 = state.positions.copy()
@@ -233,10 +234,20 @@ def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_
     return n_col, tc, clock.get("cloth", 0.0), clock
 
 
+#: a spring longer than (1 + τ + this)·rest counts as over the limit (issue 21's bound on the
+#: walk's maximum strain: τ + 2 %)
+OVER_LIMIT = 0.02
+#: at most this many of a frame's springs over the limit (the longest) are tested against the
+#: body (each test visits every body triangle, ≈ 50 µs on the 26,756-triangle body): a torn
+#: walk is not slowed down by its own check
+MAX_CROSSING_TESTS = 256
+
+
 @dataclass
 class _Tally:
     """What the walk keeps of its recorded frames: their costs and errors."""
     surface: BodySurface | None
+    tau: float = 0.0
     t_col: float = 0.0
     t_cloth: float = 0.0
     t_correction: float = 0.0
@@ -250,6 +261,8 @@ class _Tally:
     kinetic: list = field(default_factory=list)
     pen_max: list = field(default_factory=list)
     pen_p99: list = field(default_factory=list)
+    over: int = 0
+    over_crossing: int = 0
 
     def frame(self, model, state, xs, body_vertices, n_sharp: int) -> None:
         """A recorded frame's errors: the simulated ``state``, the shown ``xs``."""
@@ -269,6 +282,16 @@ class _Tally:
             pen = penetration(self.surface, body_vertices, xs)
             self.pen_max.append(float(pen.max()))
             self.pen_p99.append(float(np.percentile(pen, 99)))
+            # the springs over the limit, and of those the ones across a body part
+            over = np.flatnonzero(e > self.tau + OVER_LIMIT)
+            if len(over):
+                self.over += len(over)
+                if len(over) > MAX_CROSSING_TESTS:
+                    over = over[np.argsort(e[over])[-MAX_CROSSING_TESTS:]]
+                x = state.positions
+                hits = segments_crossing(body_vertices, self.surface.faces,
+                                         x[model.spring_a[over]], x[model.spring_b[over]])
+                self.over_crossing += int(np.count_nonzero(hits))
 
     def stats(self, model, frames: int, body_ms: float) -> dict:
         """The walk's statistics of its costs and errors (docs/tryon.md, metrics.json)."""
@@ -292,4 +315,6 @@ class _Tally:
             out["max_penetration_mm"] = 1e3 * max(self.pen_max)
             out["p99_penetration_mm"] = 1e3 * float(np.percentile(self.pen_p99, 99))
             out["penetration_mm_per_frame"] = [round(1e3 * p, 2) for p in self.pen_max]
+            out["springs_over_limit"] = self.over
+            out["over_limit_crossing_body"] = self.over_crossing
         return out
