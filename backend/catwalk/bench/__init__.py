@@ -70,3 +70,14 @@ def check_walk_seconds(seconds: float) -> None:
 
     if not 0.5 <= seconds <= 10:
         raise InputError(f"--seconds must be within 0.5–10, got {seconds}")
+
+
+def walk_errors(s: dict) -> dict:
+    """A measured walk's errors as the benchmarks report them, from its statistics
+    (``Walked.stats``): max / p99 penetration (mm, of the shown frames), max / p99 strain, and
+    the spring-frames over τ + 2 % with those of them across the body."""
+    return {"max_penetration_mm": round(s["max_penetration_mm"], 2),
+            "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
+            "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
+            "springs_over_limit": s.get("springs_over_limit"),
+            "over_limit_crossing_body": s.get("over_limit_crossing_body")}

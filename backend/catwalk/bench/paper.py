@@ -27,6 +27,8 @@ from __future__ import annotations
 import json
 import time
 
+from catwalk.bench import walk_errors
+
 PAPER = {"machine": "Pentium 4, 2.8 GHz (2007)", "points": 3372, "springs": 18623,
          "sewing_s": 2.264, "image_ms_per_frame": 405.0, "hybrid_ms_per_frame": 557.0}
 TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0, "sewing_s": 0.5,
@@ -127,12 +129,7 @@ def _walk_figures(w) -> dict:
         "ms_per_frame_split": {k: round(v, 2) for k, v in s["ms_per_frame"].items()},
         # the same time by stage, in the order a frame runs them (walking.FRAME_STAGES)
         "frame_ms": s["frame_ms"],
-        "max_penetration_mm": round(s["max_penetration_mm"], 2),
-        "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
-        "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
-        # spring-frames over τ + 2 %, and of those the ones whose segment crosses the body
-        "springs_over_limit": s.get("springs_over_limit"),
-        "over_limit_crossing_body": s.get("over_limit_crossing_body"),
+        **walk_errors(s),
         "cloth_steps_per_frame": s["cloth_steps_per_frame"],
         "collisions_per_frame": s["collisions_per_frame"],
         # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the

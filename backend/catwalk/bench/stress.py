@@ -37,6 +37,8 @@ from __future__ import annotations
 import json
 import time
 
+from catwalk.bench import walk_errors
+
 STEP_FACTORS = (0.5, 1.0, 1.1, 2.0, 4.0)
 STIFFNESS_FACTORS = (0.1, 1.0, 10.0)
 SPEED_FACTORS = (0.5, 1.0, 2.0, 2.5, 4.0)
@@ -124,9 +126,7 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
                 "seconds": round(time.perf_counter() - t0, 1)}
     return {
         "status": "ok",
-        "max_penetration_mm": round(s["max_penetration_mm"], 2),
-        "p99_penetration_mm": round(s["p99_penetration_mm"], 2),
-        "max_strain": round(s["max_strain"], 4), "p99_strain": round(s["p99_strain"], 4),
+        **walk_errors(s),
         "tau": dressed.model.tau,
         "max_internal_kinetic_j": round(max(kinetic), 6),
         "energy_ratio": None if ratio is None else round(ratio, 3),
