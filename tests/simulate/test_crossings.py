@@ -1,10 +1,28 @@
 """The independent check of springs across the body (`simulate.metrics.segments_crossing`),
-which the walk's `springs_over_limit` / `over_limit_crossing_body` rest on."""
+and the walk's `springs_over_limit` / `over_limit_crossing_body` that rest on it."""
+
+from types import SimpleNamespace
 
 import numpy as np
 
+import catwalk.simulate.walking as walking
 from catwalk.collide.shapes import capsule, sphere
-from catwalk.simulate.metrics import segments_crossing
+from catwalk.simulate.metrics import BodySurface, segments_crossing
+
+
+def _tallied(x, frames=1, tau=0.1):
+    """A walk's tally over ``frames`` frames of springs of rest 0.3 m joining points 0–1, 2–3,
+    … of ``x`` beside a sphere of radius 0.1 m at (0, 1, 0)."""
+    v, f = sphere((0.0, 1.0, 0.0), 0.1, 48, 24)
+    n = len(x) // 2
+    model = SimpleNamespace(n_limited=n, spring_a=np.arange(0, 2 * n, 2),
+                            spring_b=np.arange(1, 2 * n, 2), spring_rest=np.full(n, 0.3),
+                            mass=np.ones(len(x)), seam_a=np.zeros(0, int))
+    state = SimpleNamespace(positions=x, velocities=np.zeros_like(x))
+    tally = walking._Tally(BodySurface(f, len(v)), tau=tau)
+    for _ in range(frames):
+        tally.frame(model, state, x, v, 0)
+    return tally.over, tally.over_crossing
 
 
 def test_a_segment_through_a_sphere_meets_it_one_beside_it_does_not():
@@ -24,3 +42,17 @@ def test_a_spring_across_a_flat_hand_is_found():
     b = np.array([[-0.010, 0.7, 0.005], [0.012, 0.7, 0.018]])
     assert segments_crossing(v, f, a, b).tolist() == [True, False]
     assert segments_crossing(v, f, a[:0], b[:0]).shape == (0,)
+
+
+def test_the_walk_counts_the_springs_over_the_limit_and_those_across_the_body():
+    # across the sphere at 0.4 m, beside it at 0.4 m (both over τ + 2 %), beside it at 0.31 m
+    x = np.array([[-0.2, 1.0, 0.001], [0.2, 1.0, 0.001], [-0.2, 1.2, 0.0], [0.2, 1.2, 0.0],
+                  [-0.155, 1.3, 0.0], [0.155, 1.3, 0.0]])
+    assert _tallied(x, frames=2) == (4, 2)
+
+
+def test_only_the_longest_springs_over_the_limit_are_tested(monkeypatch):
+    # both over the limit; the one beside the sphere is the longer and the only one tested
+    x = np.array([[-0.2, 1.0, 0.001], [0.2, 1.0, 0.001], [-0.25, 1.2, 0.0], [0.25, 1.2, 0.0]])
+    monkeypatch.setattr(walking, "MAX_CROSSING_TESTS", 1)
+    assert _tallied(x) == (2, 0)

@@ -238,8 +238,8 @@ def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_
 #: walk's maximum strain: τ + 2 %)
 OVER_LIMIT = 0.02
 #: at most this many of a frame's springs over the limit (the longest) are tested against the
-#: body (each test visits every body triangle, ≈ 50 µs on the 26,756-triangle body): a torn
-#: walk is not slowed down by its own check
+#: body (each test visits every body triangle, box-culled: 38–64 µs on the 26,756-triangle
+#: body, the paper scene at h 1 and 1.77 cm): a torn walk is not slowed down by its own check
 MAX_CROSSING_TESTS = 256
 
 
