@@ -325,6 +325,9 @@ def test_no_stray_files_from_a_probe(work, capsys):
     (["--plane-band", "0.2"], "plane_band must be within 0–0.05 m, got 0.2"),
     (["--min-collisions", "0"], "need 1 <= min_collisions <= max_collisions"),
     (["--max-move", "-0.01"], "setting max_move must be a positive number"),
+    (["--integrator", "xpbd", "--xpbd-dt", "0.1"], "setting xpbd_dt must be within"),
+    (["--integrator", "xpbd", "--xpbd-iterations", "0"],
+     "setting xpbd_iterations must be a whole number within 1–100, got 0"),
     (["--seconds", "20"], "--seconds must be within 0.5–10")])
 def test_bench_paper_refuses_bad_walk_settings_before_any_work(work, capsys, args, message):
     refused(["bench", "paper", "--json", *args], capsys, work, message)

@@ -53,3 +53,9 @@ def test_the_reference_walk_responds_after_every_cloth_step():
     s = reference_walk_settings(preset("balanced"), 95)
     assert s.min_collisions == s.max_collisions == 95
     assert (s.collider, s.h, s.method) == ("hybrid", preset("balanced").h, "ordered")
+
+
+def test_the_reference_walk_is_explicit_whatever_the_default_integrator():
+    s = reference_walk_settings(preset("balanced").with_(integrator="xpbd"), 95)
+    assert s.integrator == "explicit"
+    assert s.min_collisions == s.max_collisions == 95

@@ -40,8 +40,9 @@ def add_walk_seconds(parser, default: float = 2.0) -> None:
 
 def add_walk_settings(parser) -> None:
     """``--plane-band``, ``--min-collisions``, ``--max-move``: the walks' collision responses a
-    frame and plane band (docs/tryon.md, "How many responses a frame"; read by
-    :func:`walk_settings`)."""
+    frame and plane band (docs/tryon.md, "How many responses a frame"); ``--integrator``,
+    ``--xpbd-dt``, ``--xpbd-iterations``: the walks' cloth integrator (docs/cloth.md); read by
+    :func:`walk_settings`."""
     parser.add_argument("--plane-band", type=float, default=None, metavar="M",
                         help="the walks' plane band in metres (default: balanced's, 0)")
     parser.add_argument("--min-collisions", type=int, default=None, metavar="N",
@@ -50,6 +51,12 @@ def add_walk_settings(parser) -> None:
     parser.add_argument("--max-move", type=float, default=None, metavar="M",
                         help="the walks' body motion between two responses, m (default: "
                         "balanced's)")
+    parser.add_argument("--integrator", choices=["explicit", "xpbd"], default=None,
+                        help="the walks' cloth integrator (default: balanced's, explicit)")
+    parser.add_argument("--xpbd-dt", type=float, default=None, metavar="S",
+                        help="with --integrator xpbd: its step in seconds (default 1/300)")
+    parser.add_argument("--xpbd-iterations", type=int, default=None, metavar="N",
+                        help="with --integrator xpbd: its sweeps a step (default 1)")
 
 
 def walk_settings(args) -> dict:
@@ -59,7 +66,9 @@ def walk_settings(args) -> dict:
 
     out = {k: v for k, v in (("plane_band", args.plane_band),
                              ("min_collisions", args.min_collisions),
-                             ("max_move", args.max_move)) if v is not None}
+                             ("max_move", args.max_move),
+                             ("integrator", args.integrator), ("xpbd_dt", args.xpbd_dt),
+                             ("xpbd_iterations", args.xpbd_iterations)) if v is not None}
     preset("balanced").with_(**out)
     return out
 

@@ -25,6 +25,7 @@ default's per-vertex RMS distance to the reference and hem swing against it.
 from __future__ import annotations
 
 import json
+import math
 import time
 
 from catwalk.bench import walk_errors
@@ -141,11 +142,21 @@ def _walk_figures(w) -> dict:
 
 
 def reference_walk_settings(walking, steps_per_frame: int):
-    """The explicit reference: the walk's settings with a collision response after every
-    cloth step (the seed's scheme: ``steps_per_frame`` responses in every frame), so that no
-    contact plane has to carry the cloth between two."""
+    """The explicit reference: the walk's settings with the explicit integrator and a
+    collision response after every cloth step (the seed's scheme: ``steps_per_frame``, the
+    explicit solver's steps a frame, responses in every frame), so that no contact plane has
+    to carry the cloth between two."""
     n = int(steps_per_frame)
-    return walking.with_(min_collisions=n, max_collisions=n)
+    return walking.with_(integrator="explicit", min_collisions=n, max_collisions=n)
+
+
+def explicit_steps_per_frame(dressed, walking, fps: float) -> int:
+    """The explicit solver's steps in a frame of the walk (its stable step, whatever the
+    walk's own integrator)."""
+    from catwalk.simulate.walking import cloth_solver
+
+    dt = cloth_solver(dressed, walking.with_(integrator="explicit")).dt_max
+    return int(math.ceil((1.0 / fps) / dt))
 
 
 ERROR_KEYS = ("max_penetration_mm", "p99_penetration_mm", "max_strain", "p99_strain")
@@ -163,8 +174,9 @@ def _against_reference(body, motion, dressed, walking, default_walk, default: di
     from catwalk.simulate.fidelity import hem_points, hem_swing, nudged, vertex_rms
     from catwalk.simulate.walking import walk as walk_on
 
-    settings = reference_walk_settings(walking, default["cloth_steps_per_frame"])
-    block = {"integrator": "explicit", "collider": walking.collider,
+    settings = reference_walk_settings(walking,
+                                       explicit_steps_per_frame(dressed, walking, motion.fps))
+    block = {"integrator": walking.integrator, "collider": walking.collider,
              "ms_per_frame": default["ms_per_frame"],
              "ms_per_frame_2cores": default.get("ms_per_frame_2cores"),
              **{k: default[k] for k in ERROR_KEYS},

@@ -30,7 +30,10 @@ point) this gives ``dt_stable`` (= √2/π·T₀ ≈ 0.45·T₀ without damping)
 ``failed`` and refused afterwards.
 
 ``Solver(model, method, integrator="xpbd")`` swaps steps 1–4 for XPBD, an alternative kept for
-comparison (``catwalk bench cloth --integrators xpbd``; see docs/cloth.md).
+comparison (``catwalk bench cloth --integrators xpbd``, the walk's ``integrator`` setting; see
+docs/cloth.md): with ``method="ordered"`` each XPBD step (its sweeps without the limit) ends
+with the paper's ordered pass on the step's velocities and the contact planes, as step 3–4
+above; with the other methods the limit is a hard constraint inside the sweeps.
 """
 
 from __future__ import annotations
@@ -246,7 +249,7 @@ class Solver:
         self._w_int = np.where(state.pinned, 0.0, self._inv_mass)
         self._w_lim = (np.where(state.held, 0.0, self._w_int) if self.held_fixed
                        else self._w_int)
-        if self.method != "ordered" or self.integrator != "explicit":
+        if self.method != "ordered":
             self._centres = centres.copy()
             return False
         if (self.order_tolerance > 0 and self._order_centres is not None
@@ -304,18 +307,57 @@ class Solver:
         return StepInfo(nsub, h, int(state.held.sum()), rebuilt)
 
     def _run(self, model, state, w_int, w_lim, h, nsteps):
+        if self.integrator == "xpbd" and self.method == "ordered":
+            for _ in range(nsteps):
+                self._check(state, self._xpbd(model, state, w_int, w_lim, h, 1, False), h, 1)
+                self._ordered_clamp(model, state, w_lim, h)
+            return
         if self.integrator == "xpbd":
-            status = K.run_steps_xpbd(
-                state.positions, state.velocities, self._xprev, self._p, self._lam, model.mass,
-                w_int, w_lim, model.spring_a, model.spring_b, model.spring_rest, model.spring_k,
-                model.spring_c, model.n_limited, model.fabric.compression, self.gravity,
-                model.fabric.air + self.extra_air, self._seam_a, self._seam_b,
-                self.seam_stiffness, self.seam_damping, self._lam_seam, h, nsteps,
-                self.xpbd_iterations, self.method != "none", self.tau, self.max_speed,
-                self._bad)
+            status = self._xpbd(model, state, w_int, w_lim, h, nsteps, self.method != "none")
         else:
             status = self._run_explicit(model, state, w_int, w_lim, h, nsteps)
         self._check(state, status, h, nsteps)
+
+    def _xpbd(self, model, state, w_int, w_lim, h, nsteps, limit: bool) -> int:
+        """XPBD steps (``limit``: the strain limit as hard constraints in the same sweeps)."""
+        return K.run_steps_xpbd(
+            state.positions, state.velocities, self._xprev, self._p, self._lam, model.mass,
+            w_int, w_lim, model.spring_a, model.spring_b, model.spring_rest, model.spring_k,
+            model.spring_c, model.n_limited, model.fabric.compression, self.gravity,
+            model.fabric.air + self.extra_air, self._seam_a, self._seam_b,
+            self.seam_stiffness, self.seam_damping, self._lam_seam, h, nsteps,
+            self.xpbd_iterations, limit, self.tau, self.max_speed, self._bad)
+
+    def _ordered_clamp(self, model, state, w_lim, h) -> None:
+        """The paper's ordered pass as the final clamp of an XPBD step: the step's velocities
+        (p − x)/h limited in order from the tension centres so that no stretch/shear spring
+        ends it longer than (1+τ)·rest, the positions taken again from the step's start, then
+        the contact planes — what the explicit step does after its forces. Without the
+        parents' reaction impulses (``react``): the explicit step's next pass takes them
+        back, an XPBD step does not (with them the bench cloth ends 1 ms steps of 8 sweeps at
+        strain 0.175, without them at τ = 0.100: docs/cloth.md)."""
+        w = self._work
+        X, V, XP, XPREV, R = w["X"], w["V"], w["XP"], w["XPREV"], w["R"]
+        K.to_soa(self._xprev, X)
+        K.to_soa(state.velocities, V)
+        op, optr, _, ooth = self._order[:4]
+        K.predict(X, V, h, XP)
+        K.mark_overstretched(XP, self._runs, self._n_runs_lim, model.spring_rest, self.tau,
+                             self._dirty)
+        maxp = int(np.max(np.diff(optr))) if len(optr) > 1 else 1
+        K.limit_ordered_velocity(XP, V, w_lim, h, op, optr, ooth, self._order[5],
+                                 self._order_lim, self._order_lim2, self._order_pt_cross,
+                                 self.sweeps, 0.0, R, self.share, self._dirty,
+                                 model.adj_ptr, model.adj_other,
+                                 np.empty(max(maxp, 1), dtype=np.int64),
+                                 np.empty((max(maxp, 1), 3)))
+        K.advance_positions(X, V, R, h, False, XPREV)
+        idx, planes, t = self._planes(state)
+        if len(idx):
+            K.apply_planes(X, V, idx, planes, t)   # (the step is counted in the state's time)
+        K.from_soa(X, state.positions)
+        K.from_soa(V, state.velocities)
+        K.from_soa(XPREV, self._xprev)
 
     def _run_explicit(self, model, state, w_int, w_lim, h, nsteps):
         op, optr, _, ooth = self._order[:4]

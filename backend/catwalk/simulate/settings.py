@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
+from catwalk.cloth.solver import INTEGRATORS
 from catwalk.collide import MODES
 from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
@@ -17,6 +18,9 @@ class Settings:
     ``step_safety`` the share of the cloth's stable time step (eq. 4's bound,
     :class:`~catwalk.cloth.solver.Solver`) its steps take — above 1 the explicit integration
     blows up, so it is refused (``catwalk bench stress`` shows the evidence).
+    ``integrator``: ``explicit`` (the paper's, the default) or ``xpbd`` (XPBD steps of
+    ``xpbd_dt`` seconds with ``xpbd_iterations`` sweeps each, the ordered pass as their final
+    clamp: :class:`~catwalk.cloth.solver.Solver`; the walk only — dressing stays explicit).
     Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
@@ -47,6 +51,9 @@ class Settings:
     h: float = 0.015
     method: str = "ordered"
     step_safety: float = 0.9
+    integrator: str = "explicit"
+    xpbd_dt: float = 1.0 / 300.0
+    xpbd_iterations: int = 1
     collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
@@ -73,6 +80,17 @@ class Settings:
     def check(self) -> Settings:
         if self.collider not in MODES:
             raise InputError(f"collider must be one of {', '.join(MODES)}, got {self.collider!r}")
+        if self.integrator not in INTEGRATORS:
+            raise InputError(f"setting integrator must be one of {', '.join(INTEGRATORS)}, got "
+                             f"{self.integrator!r}")
+        if isinstance(self.xpbd_iterations, bool) or not isinstance(self.xpbd_iterations, int) \
+                or not 1 <= self.xpbd_iterations <= 100:
+            raise InputError(f"setting xpbd_iterations must be a whole number within 1–100, got "
+                             f"{self.xpbd_iterations!r}")
+        if isinstance(self.xpbd_dt, bool) or not isinstance(self.xpbd_dt, (int, float)) or \
+                not 1e-5 <= self.xpbd_dt <= 1.0 / 30.0:
+            raise InputError(f"setting xpbd_dt must be within 1e-05–0.0333 s (at least one step "
+                             f"a 30-fps frame), got {self.xpbd_dt!r}")
         for key in ("h", "thickness", "max_move", "sew_omega", "sew_seconds", "weld_gap",
                     "weld_reach",
                     "max_open_gap", "settle_speed"):

@@ -127,7 +127,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
     collider = make_collider(settings.collider, body.faces, body.parts, friction=friction,
                              **settings.collider_options(walking=True))
     collider.update(verts[0].astype(np.float64), vels[0].astype(np.float64))
-    solver = _solver(dressed, settings)
+    solver = cloth_solver(dressed, settings)
     tally = _Tally(BodySurface(body.faces, len(body.vertices)) if measure else None,
                    solver.tau)
     nf = motion.frames
@@ -202,15 +202,17 @@ def frame_costs(ms: dict, timings, timings0, correction_ms: float, frames: int) 
     return {k: round(v, 2) for k, v in out.items()}
 
 
-def _solver(dressed: Dressed, settings: Settings) -> Solver:
-    """The walk's cloth solver: the settings' strain limit and step, held points free in the
-    limit, seam springs for any pair left open."""
+def cloth_solver(dressed: Dressed, settings: Settings) -> Solver:
+    """The walk's cloth solver: the settings' integrator, strain limit and step, held points
+    free in the limit, seam springs for any pair left open."""
     model = dressed.model
     m_med = float(np.median(dressed.cloth.model.mass))
     w = settings.sew_omega
     return Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
                   safety=settings.step_safety, order_tolerance=ORDER_TOLERANCE,
-                  seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med)
+                  seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med,
+                  integrator=settings.integrator, xpbd_dt=settings.xpbd_dt,
+                  xpbd_iterations=settings.xpbd_iterations)
 
 
 def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_dt, x0,
