@@ -193,3 +193,26 @@ def test_a_simulation_that_fails_exits_3_and_writes_nothing(body_glb, tmp_path, 
     err = capsys.readouterr().err
     assert "still open" in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_a_settling_that_blows_up_is_run_again_with_twice_the_resolves(dressable_body, skirt,
+                                                                        monkeypatch):
+    import catwalk.simulate.dressing as dressing
+    from catwalk.cloth.solver import ClothExplosionError
+
+    settings = preset("fast").with_(h=0.03)
+    real, calls = dressing.advance, []
+
+    def advance(solver, model, state, collider, duration, collisions, *args, **kw):
+        # the first settling interval blows up (a fault injected where the bodice S tore on
+        # one machine); everything else runs as it does
+        calls.append(collisions)
+        if collisions == settings.settle_collisions and calls.count(collisions) == 1:
+            raise ClothExplosionError("injected")
+        return real(solver, model, state, collider, duration, collisions, *args, **kw)
+
+    monkeypatch.setattr(dressing, "advance", advance)
+    d = dress(dressable_body, skirt, "M", settings=settings)
+    assert d.stats["settle_retries"] == 1
+    assert d.stats["settle_collisions"] == 2 * settings.settle_collisions
+    assert d.stats["open_seam_pairs"] == 0
