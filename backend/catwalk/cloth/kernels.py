@@ -648,6 +648,63 @@ def _first_nonfinite(X):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def _order_buffers(ord_pts, ord_ptr):
+    """Scratch for the ordered pass: room for the most springs any point has to earlier
+    points."""
+    maxp = 1
+    for o in range(ord_pts.shape[0]):
+        maxp = max(maxp, ord_ptr[o + 1] - ord_ptr[o])
+    return np.empty(maxp, dtype=np.int64), np.empty((maxp, 3))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def limit_and_advance(X, V, dt, t_planes, model, limit, order, contact, work, qbuf, dbuf):
+    """The end of a step, once its velocities ``V`` are known: the strain limit on them
+    (``ordered``: the paper's pass, ``passes`` times; ``vassilev``), x += dt·v (the ordered
+    pass's reactions then added to the velocities), the contact planes (``t_planes``: the
+    time since they were set), then ``provot``'s position correction. The groups are
+    :func:`run_steps`'s; ``qbuf``/``dbuf`` from :func:`_order_buffers`."""
+    (mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, runs, n_runs_lim, compress, gravity,
+     air) = model
+    method, tau, sweeps, react, share, passes, provot_iterations, vmax = limit
+    ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2, pt_cross, adj_ptr, adj_other = order
+    plane_idx, planes, _ = contact
+    _, _, XP, XPREV, _, R, dirty = work
+    if method == METHOD_ORDERED:
+        if react > 0.0:
+            R[:, :] = 0.0
+        for _pass in range(passes):
+            predict(X, V, dt, XP)
+            mark_overstretched(XP, runs, n_runs_lim, rest, tau, dirty)
+            limit_ordered_velocity(XP, V, w_lim, dt, ord_pts, ord_ptr, ord_oth, ord_cross,
+                                   ord_lim, ord_lim2, pt_cross, sweeps, react, R, share,
+                                   dirty, adj_ptr, adj_other, qbuf, dbuf)
+    elif method == METHOD_VASSILEV:
+        limit_unordered_velocity(X, V, w_lim, sa, sb, rest, n_lim, tau, dt)
+    advance_positions(X, V, R, dt, method == METHOD_ORDERED and react > 0.0, XPREV)
+    if plane_idx.shape[0]:
+        apply_planes(X, V, plane_idx, planes, t_planes)
+    if method == METHOD_PROVOT:
+        limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, provot_iterations)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def clamp_step(x, v, xprev, dt, model, limit, order, contact, work):
+    """The end of :func:`run_steps`'s step (:func:`limit_and_advance`) applied to a step
+    another integrator took from ``xprev`` to ``x``: its velocities (given in ``v``) limited,
+    the positions taken again from ``xprev``, the planes kept (``contact``'s time: since they
+    were set, this step included). ``x``, ``v``, ``xprev`` (n, 3) are changed in place."""
+    X, V = work[0], work[1]
+    to_soa(xprev, X)
+    to_soa(v, V)
+    qbuf, dbuf = _order_buffers(order[0], order[1])
+    limit_and_advance(X, V, dt, contact[2], model, limit, order, contact, work, qbuf, dbuf)
+    from_soa(X, x)
+    from_soa(V, v)
+    from_soa(work[3], xprev)
+
+
+@numba.njit(cache=True, error_model="numpy")
 def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work, out_bad):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
 
@@ -669,17 +726,12 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     (mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, runs, n_runs_lim, compress, gravity,
      air) = model
     seam_a, seam_b, seam_k, seam_c = seams
-    method, tau, sweeps, react, share, passes, provot_iterations, vmax = limit
-    ord_pts, ord_ptr, ord_oth, ord_cross, ord_lim, ord_lim2, pt_cross, adj_ptr, adj_other = order
-    plane_idx, planes, plane_t = contact
+    vmax = limit[7]
+    plane_t = contact[2]
     X, V, XP, XPREV, F, R, dirty = work
     to_soa(x, X)
     to_soa(v, V)
-    maxp = 1
-    for o in range(ord_pts.shape[0]):
-        maxp = max(maxp, ord_ptr[o + 1] - ord_ptr[o])
-    qbuf = np.empty(maxp, dtype=np.int64)
-    dbuf = np.empty((maxp, 3))
+    qbuf, dbuf = _order_buffers(order[0], order[1])
     status = STATUS_OK
     moved = False
     for step in range(nsteps):
@@ -692,23 +744,9 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
             status = st
             break
         damp_seams(V, seam_a, seam_b, w_int, seam_c, dt)
-        if method == METHOD_ORDERED:
-            if react > 0.0:
-                R[:, :] = 0.0
-            for _pass in range(passes):
-                predict(X, V, dt, XP)
-                mark_overstretched(XP, runs, n_runs_lim, rest, tau, dirty)
-                limit_ordered_velocity(XP, V, w_lim, dt, ord_pts, ord_ptr, ord_oth, ord_cross,
-                                       ord_lim, ord_lim2, pt_cross, sweeps, react, R, share,
-                                       dirty, adj_ptr, adj_other, qbuf, dbuf)
-        elif method == METHOD_VASSILEV:
-            limit_unordered_velocity(X, V, w_lim, sa, sb, rest, n_lim, tau, dt)
-        advance_positions(X, V, R, dt, method == METHOD_ORDERED and react > 0.0, XPREV)
+        limit_and_advance(X, V, dt, plane_t + (step + 1) * dt, model, limit, order, contact,
+                          work, qbuf, dbuf)
         moved = True
-        if plane_idx.shape[0]:
-            apply_planes(X, V, plane_idx, planes, plane_t + (step + 1) * dt)
-        if method == METHOD_PROVOT:
-            limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, provot_iterations)
     if status == STATUS_OK:
         i = _first_nonfinite(X)
         if i >= 0:

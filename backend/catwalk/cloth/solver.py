@@ -310,7 +310,7 @@ class Solver:
         if self.integrator == "xpbd" and self.method == "ordered":
             for _ in range(nsteps):
                 self._check(state, self._xpbd(model, state, w_int, w_lim, h, 1, False), h, 1)
-                self._ordered_clamp(model, state, w_lim, h)
+                self._ordered_clamp(model, state, w_int, w_lim, h)
             return
         if self.integrator == "xpbd":
             status = self._xpbd(model, state, w_int, w_lim, h, nsteps, self.method != "none")
@@ -328,40 +328,26 @@ class Solver:
             self.seam_stiffness, self.seam_damping, self._lam_seam, h, nsteps,
             self.xpbd_iterations, limit, self.tau, self.max_speed, self._bad)
 
-    def _ordered_clamp(self, model, state, w_lim, h) -> None:
-        """The paper's ordered pass as the final clamp of an XPBD step: the step's velocities
-        (p − x)/h limited in order from the tension centres so that no stretch/shear spring
-        ends it longer than (1+τ)·rest, the positions taken again from the step's start, then
-        the contact planes — what the explicit step does after its forces. Without the
-        parents' reaction impulses (``react``): the explicit step's next pass takes them
-        back, an XPBD step does not (with them the bench cloth ends 1 ms steps of 8 sweeps at
-        strain 0.175, without them at τ = 0.100: docs/cloth.md)."""
-        w = self._work
-        X, V, XP, XPREV, R = w["X"], w["V"], w["XP"], w["XPREV"], w["R"]
-        K.to_soa(self._xprev, X)
-        K.to_soa(state.velocities, V)
-        op, optr, _, ooth = self._order[:4]
-        K.predict(X, V, h, XP)
-        K.mark_overstretched(XP, self._runs, self._n_runs_lim, model.spring_rest, self.tau,
-                             self._dirty)
-        maxp = int(np.max(np.diff(optr))) if len(optr) > 1 else 1
-        K.limit_ordered_velocity(XP, V, w_lim, h, op, optr, ooth, self._order[5],
-                                 self._order_lim, self._order_lim2, self._order_pt_cross,
-                                 self.sweeps, 0.0, R, self.share, self._dirty,
-                                 model.adj_ptr, model.adj_other,
-                                 np.empty(max(maxp, 1), dtype=np.int64),
-                                 np.empty((max(maxp, 1), 3)))
-        K.advance_positions(X, V, R, h, False, XPREV)
-        idx, planes, t = self._planes(state)
-        if len(idx):
-            K.apply_planes(X, V, idx, planes, t)   # (the step is counted in the state's time)
-        K.from_soa(X, state.positions)
-        K.from_soa(V, state.velocities)
-        K.from_soa(XPREV, self._xprev)
+    def _ordered_clamp(self, model, state, w_int, w_lim, h) -> None:
+        """The paper's ordered pass as the final clamp of an XPBD step
+        (:func:`~catwalk.cloth.kernels.clamp_step`: the end of an explicit step on the XPBD
+        step's velocities (p − x)/h, from the tension centres outward, then the contact
+        planes). Without the parents' reaction impulses (``react``): the explicit step's next
+        pass takes them back, an XPBD step does not (with them the bench cloth ends 1 ms steps
+        of 8 sweeps at strain 0.175, without them at τ = 0.100: docs/cloth.md)."""
+        groups = self._step_groups(model, state, w_int, w_lim, react=0.0)
+        K.clamp_step(state.positions, state.velocities, self._xprev, h, groups[0], *groups[2:])
 
     def _run_explicit(self, model, state, w_int, w_lim, h, nsteps):
+        return K.run_steps(state.positions, state.velocities, self._xprev, h, nsteps,
+                           *self._step_groups(model, state, w_int, w_lim, self.react),
+                           self._bad)
+
+    def _step_groups(self, model, state, w_int, w_lim, react: float) -> tuple:
+        """The step kernels' inputs, grouped (:data:`~catwalk.cloth.kernels.StepModel`,
+        ``StepSeams``, ``StepLimit``, ``StepOrder``, the planes, ``StepWork``) as plain
+        tuples: numba types a named tuple several µs slower a call."""
         op, optr, _, ooth = self._order[:4]
-        ocross = self._order[5]
         w = self._work
         step_model = K.StepModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
                                  model.spring_rest, model.spring_k, model.spring_c,
@@ -369,16 +355,13 @@ class Solver:
                                  model.fabric.compression, self.gravity,
                                  model.fabric.air + self.extra_air)
         seams = K.StepSeams(self._seam_a, self._seam_b, self.seam_stiffness, self.seam_damping)
-        limit = K.StepLimit(METHODS[self.method], self.tau, self.sweeps, self.react, self.share,
+        limit = K.StepLimit(METHODS[self.method], self.tau, self.sweeps, react, self.share,
                             self.passes, self.provot_iterations, self.max_speed)
-        order = K.StepOrder(op, optr, ooth, ocross, self._order_lim, self._order_lim2,
+        order = K.StepOrder(op, optr, ooth, self._order[5], self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
-        # plain tuples to the kernel (it unpacks them by position): numba types a named tuple
-        # several µs slower a call
-        return K.run_steps(state.positions, state.velocities, self._xprev, h, nsteps,
-                           tuple(step_model), tuple(seams), tuple(limit), tuple(order),
-                           tuple(self._planes(state)), tuple(work), self._bad)
+        return (tuple(step_model), tuple(seams), tuple(limit), tuple(order),
+                tuple(self._planes(state)), tuple(work))
 
     def _planes(self, state):
         """The state's contact planes as (point indices, (m, 8) planes, time since set)."""

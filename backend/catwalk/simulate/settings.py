@@ -10,6 +10,15 @@ from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
 
 
+def _in_range(name: str, value, lo, hi, span: str | None = None, *, whole: bool = False):
+    """Refuse a setting that is not a number (``whole``: a whole number) within lo–hi
+    (:class:`~catwalk.errors.InputError` naming it; ``span``: how the range reads)."""
+    kinds = int if whole else (int, float)
+    if isinstance(value, bool) or not isinstance(value, kinds) or not lo <= value <= hi:
+        what = "a whole number within" if whole else "within"
+        raise InputError(f"setting {name} must be {what} {span or f'{lo}–{hi}'}, got {value!r}")
+
+
 @dataclass(frozen=True)
 class Settings:
     """Everything that trades speed for accuracy in a try-on.
@@ -83,14 +92,9 @@ class Settings:
         if self.integrator not in INTEGRATORS:
             raise InputError(f"setting integrator must be one of {', '.join(INTEGRATORS)}, got "
                              f"{self.integrator!r}")
-        if isinstance(self.xpbd_iterations, bool) or not isinstance(self.xpbd_iterations, int) \
-                or not 1 <= self.xpbd_iterations <= 100:
-            raise InputError(f"setting xpbd_iterations must be a whole number within 1–100, got "
-                             f"{self.xpbd_iterations!r}")
-        if isinstance(self.xpbd_dt, bool) or not isinstance(self.xpbd_dt, (int, float)) or \
-                not 1e-5 <= self.xpbd_dt <= 1.0 / 30.0:
-            raise InputError(f"setting xpbd_dt must be within 1e-05–0.0333 s (at least one step "
-                             f"a 30-fps frame), got {self.xpbd_dt!r}")
+        _in_range("xpbd_iterations", self.xpbd_iterations, 1, 100, whole=True)
+        _in_range("xpbd_dt", self.xpbd_dt, 1e-5, 1.0 / 30.0, "1e-05–0.0333 s (at least one step "
+                  "a 30-fps frame)")
         for key in ("h", "thickness", "max_move", "sew_omega", "sew_seconds", "weld_gap",
                     "weld_reach",
                     "max_open_gap", "settle_speed"):
@@ -99,26 +103,17 @@ class Settings:
                 raise InputError(f"setting {key} must be a positive number, got {v!r}")
         if not isinstance(self.skips, bool):
             raise InputError(f"setting skips must be true or false, got {self.skips!r}")
-        if isinstance(self.step_safety, bool) or not isinstance(self.step_safety, (int, float)) \
-                or not 0.05 <= self.step_safety <= 1.0:
-            raise InputError(f"setting step_safety must be within 0.05–1 (the share of the "
-                             f"cloth's stable time step its steps take; beyond 1 the explicit "
-                             f"integration is unstable and blows up), got {self.step_safety!r}")
-        if isinstance(self.threads, bool) or not isinstance(self.threads, int) or \
-                not 1 <= self.threads <= 64:
-            raise InputError(f"setting threads must be a whole number within 1–64, got "
-                             f"{self.threads!r}")
+        _in_range("step_safety", self.step_safety, 0.05, 1.0, "0.05–1 (the share of the cloth's "
+                  "stable time step its steps take; beyond 1 the explicit integration is "
+                  "unstable and blows up)")
+        _in_range("threads", self.threads, 1, 64, whole=True)
         if not (0.004 <= self.h <= 0.1):
             raise InputError(f"grid spacing h must be within 0.004–0.1 m, got {self.h}")
         if self.min_collisions < 1 or self.max_collisions < self.min_collisions:
             raise InputError("need 1 <= min_collisions <= max_collisions")
         if self.sew_collisions < 1 or self.settle_collisions < 1:
             raise InputError("sew_collisions and settle_collisions must be >= 1")
-        if isinstance(self.plane_band, bool) or \
-                not isinstance(self.plane_band, (int, float)) or \
-                not 0 <= self.plane_band <= MAX_PLANE_BAND:
-            raise InputError(f"setting plane_band must be within 0–{MAX_PLANE_BAND} m, got "
-                             f"{self.plane_band!r}")
+        _in_range("plane_band", self.plane_band, 0.0, MAX_PLANE_BAND, f"0–{MAX_PLANE_BAND} m")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
