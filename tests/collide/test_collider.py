@@ -424,3 +424,39 @@ def test_a_point_another_pass_had_is_not_judged_by_where_it_was_long_ago():
     crossed = np.array([keeper, [0.0, 1.0, -0.03]])
     held = c2.resolve(crossed, np.zeros_like(crossed), pos2.copy(), alpha=1.0)
     assert held[1] and crossed[1, 2] >= T - 1e-9
+
+
+@pytest.mark.parametrize("mode", ["hybrid", "object"])
+def test_the_frames_last_answer_puts_a_point_between_the_faces_of_a_fold(mode):
+    """Cloth in a narrow notch of one part (a fold of the body onto itself, as the skinned arm
+    folds under the armpit): a point pushed off one face along its normal ends behind the
+    facing one. The response that gives the frame kept (``final``: a walk's recorded frame)
+    looks at the pushed points again and puts each one found behind a facing surface between
+    the two; another response does not (the next one sees the point again)."""
+    from catwalk.collide.kernels import STAT_NAMES
+    from catwalk.collide.shapes import notched_prism, notched_prism_depth
+
+    v, f = notched_prism()
+    rng = np.random.default_rng(5)
+    n = 400
+    beta = np.arctan2(0.005, 0.03)
+    up = np.array([-np.sin(beta), np.cos(beta)])       # up the notch's left face
+    out = np.array([np.cos(beta), np.sin(beta)])       # that face's normal, into the notch
+    xy = (np.array([0.0, 0.02]) + rng.uniform(0.002, 0.012, n)[:, None] * up
+          + rng.uniform(0.0002, 0.0015, n)[:, None] * out)
+    start = np.c_[xy, rng.uniform(-0.03, 0.03, n)]
+    start = start[notched_prism_depth(start) == 0.0]   # outside, near the left face
+    n = len(start)
+    assert n > 300
+    depth = {}
+    for final in (False, True):
+        c = make_collider(mode, f, np.full(len(v), 1, np.int8))
+        c.update(v)
+        pos = start.copy()
+        held = c.resolve(pos, np.zeros_like(pos), start.copy(), alpha=1.0, final=final)
+        assert held.all()
+        depth[final] = notched_prism_depth(pos)
+        folds = int(c.stats[STAT_NAMES.index("folds")])
+        assert (folds > n // 2) if final else folds == 0
+    assert (depth[False] > 0.001).sum() > n // 2         # pushed behind the facing face
+    assert depth[True].max() == 0.0

@@ -60,11 +60,13 @@ def test_the_measures_are_the_walks_own(scene):
     assert rms_mm(pos, pos) == 0.0
     # the collider's counters over the recorded frames (object space): at every call each
     # point is counted once — far enough not to look, its kept triangle, a search, or out
-    # of every part's reach — so the calls are the recorded frames' and no others
+    # of every part's reach — so the calls are the recorded frames' and no others, plus the
+    # points the frame kept looks at again
     c, calls = w.stats["collider_counts"], w.stats["collider_calls"]
     seen = c["clearance_skips"] + c["reused"] + c["boxed"] + c["skipped"]
     assert w.stats["collider"] == "object" and c["boxed"] > 0 and c["contacts"] > 0
-    assert seen == calls * w.stats["points"]
+    assert 0 < c["rechecked"] < calls * w.stats["points"]
+    assert seen == calls * w.stats["points"] + c["rechecked"]
     # a frame's time by stage, in the order a frame runs them: object space draws no maps;
     # the measured stages take most of the frame and no more than all of it ("other", the
     # remainder, is neither negative — a stage counted twice — nor most of the frame — a

@@ -30,6 +30,9 @@ Interface (what the cloth solver relies on)::
   (Coulomb friction). Returns ``held`` (P,) bool: the points in contact at this substep
   (within ``thickness`` + ``contact_slack``, 0.5 mm) — the solver's tension centres for the
   ordered strain limit. The cloth solver (:mod:`catwalk.cloth.solver`) calls it exactly so.
+  ``resolve(..., final=True)``: the answer is the frame the caller keeps (a walk's recorded
+  frame): the object passes look once more at the points they pushed, each searched afresh
+  (one pushed off a triangle may be behind another where the body folds onto itself).
 
 Method:
 

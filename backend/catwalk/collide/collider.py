@@ -36,6 +36,7 @@ cpu_time = time.thread_time
 
 N_PARTS = 5
 PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
+TORSO = 0   # the torso and head's part label; the others are the limbs
 #: an empty mask of points: a pass's ``only`` when it looks at every point, the image pass's
 #: ``edge`` when it leaves none to object space
 NO_MASK = np.zeros(0, bool)
@@ -80,10 +81,24 @@ class Timings:
     counters: dict = field(default_factory=dict)
 
 
+#: m. At the frame kept (``Substep.final``), a point the object passes pushed farther than this
+#: is looked at again: a push of d leaves a point that was outside every surface at most d
+#: inside any of them
+RECHECK_MOVE = 0.0005
+
+
+def moved_far(pos: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """(P,) bool: the points that moved more than :data:`RECHECK_MOVE` from ``start``."""
+    d = pos - start
+    return np.einsum("ij,ij->i", d, d) > RECHECK_MOVE * RECHECK_MOVE
+
+
 class Substep(NamedTuple):
     """One :meth:`Collider.resolve` call as the passes take it: the cloth's positions,
     velocities (fixed in place) and previous positions, the substep's time and the previous
-    call's in the frame, and the box of both sets of positions."""
+    call's in the frame, and the box of both sets of positions. ``final``: the answer is the
+    frame the caller keeps (a walk's recorded frame): the object passes look once more at the
+    points they pushed, each searched afresh (the modes' ``_resolve``)."""
 
     pos: np.ndarray
     vel: np.ndarray
@@ -92,6 +107,7 @@ class Substep(NamedTuple):
     alpha_prev: float
     lo: np.ndarray
     hi: np.ndarray
+    final: bool = False
 
 
 def _workspace(stats: np.ndarray | None = None) -> K.Workspace:
@@ -324,11 +340,16 @@ class Collider:
         self.timings.normals += cpu_time() - t
 
     # ------------------------------------------------------------------ per substep
-    def resolve(self, positions, velocities, previous_positions, alpha: float | None = None):
+    def resolve(self, positions, velocities, previous_positions, alpha: float | None = None,
+                final: bool = False):
         """Collide cloth points with the body at this substep; fixes ``positions`` and
         ``velocities`` (float64 (P,3), C-contiguous) in place and returns the held mask (P,)
         bool. ``alpha``: the substep's time in [0, 1] between the previous and the current
-        body frame (default: from the substep count, see :meth:`update`). Afterwards
+        body frame (default: from the substep count, see :meth:`update`). ``final``: this
+        answer is the frame the caller keeps (a walk's recorded frame): the points pushed are
+        looked at once more, each searched afresh — one pushed off a triangle may have gone
+        behind another where the body folds onto itself, or have been held against a kept
+        triangle while another of the same part came over it. Afterwards
         :attr:`planes` holds the contact plane of each held point and of each point within
         ``plane_band`` of the surface (zero normal for the others)."""
         if self.v1 is None:
@@ -356,7 +377,7 @@ class Collider:
         hi = np.full(3, -np.inf)
         K.bounds(pos, lo, hi)
         K.bounds(prev, lo, hi)
-        self._resolve(Substep(pos, vel, prev, alpha, alpha_prev, lo, hi), held)
+        self._resolve(Substep(pos, vel, prev, alpha, alpha_prev, lo, hi, bool(final)), held)
         return held
 
     def _substep_time(self, alpha: float | None) -> tuple[float, float]:

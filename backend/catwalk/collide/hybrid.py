@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from catwalk.collide.collider import NO_MASK, Collider, Substep
+from catwalk.collide.collider import NO_MASK, TORSO, Collider, Substep, moved_far
 from catwalk.collide.image_pass import ImagePass
 from catwalk.collide.object_pass import ObjectPass
 
-TORSO = 0
 LIMBS = (1, 2, 3, 4)
 
 
@@ -50,12 +49,16 @@ class HybridCollider(Collider):
         reach = None if self._object_pass is None else self._object_pass.reach(self, s.lo, s.hi)
         use_edge = self.edge_fallback and reach is not None and bool(reach[TORSO])
         flagged = False
+        start = s.pos.copy() if s.final else None   # the frame kept: what the pushes moved
         if self._image_pass is not None:
             edge = self._edge_marks(len(s.pos)) if use_edge else NO_MASK
             self._image_pass.run(self, s, held, edge)
             flagged = use_edge and bool(self._edge.any())
         if self._object_pass is not None:
             self._object_space(s, held, reach, flagged, track=use_edge and self.limb_fallback)
+            if s.final:
+                self._look_again(s, held, reach, flagged, use_edge and self.limb_fallback,
+                                 start)
 
     def _edge_marks(self, n: int) -> np.ndarray:
         """The edge marks before the image pass: none, or (limb fallback) the points a limb
@@ -105,10 +108,36 @@ class HybridCollider(Collider):
         if track:
             held |= he
             held |= hl
-            # held by a limb: by the limbs' pass, or by a limb's triangle in the all-parts
-            # pass
-            near = hl.copy()
-            if flagged and self._edge_pts is not None:
-                t = self._edge_pts.cache_tri
-                near |= he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
-            self._near_limb = near
+            self._near_limb = self._held_by_limb(he, hl, flagged)
+
+    def _held_by_limb(self, he, hl, flagged: bool) -> np.ndarray:
+        """The points a limb held: by the limbs' pass (``hl``), or by a limb's triangle in
+        the all-parts pass (``he``)."""
+        near = hl.copy()
+        if flagged and self._edge_pts is not None:
+            t = self._edge_pts.cache_tri
+            near |= he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
+        return near
+
+    def _look_again(self, s: Substep, held, reach, flagged: bool, track: bool, start) -> None:
+        """The frame kept (``s.final``): the points the object passes pushed farther than
+        ``RECHECK_MOVE`` (:mod:`~catwalk.collide.collider`) since ``start`` (one pushed out
+        along a triangle may have gone behind another of the same part where the skinned
+        mesh folds, under the arm), and those a limb holds (a kept triangle is not checked
+        against its own part's others: a hand turning over a point held against a finger),
+        once more against every part in ``reach``, each searched afresh
+        (``ObjectPass.run(recheck=True)``)."""
+        op = self._object_pass
+        if track:
+            he, hl = self._held_edge, self._held_limbs
+            again = (he | hl) & (moved_far(s.pos, start) | self._near_limb)
+            if again.any():
+                self._edge_pts = op.run(self, s, he, reach, self._edge_pts, again,
+                                        recheck=True)
+                held |= he
+        elif self.tree_parts.any():
+            # the limbs' pass alone saw the points: every point it holds is a limb's
+            again = held & self._rest if flagged else held.copy()
+            if again.any():
+                self._pts = op.run(self, s, held, reach & self.tree_parts, self._pts, again,
+                                   recheck=True)

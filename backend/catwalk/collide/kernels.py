@@ -32,18 +32,19 @@ from catwalk.collide.bvh import (
 from catwalk.render.raster import row_span
 
 (ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS,
- ST_EDGE, ST_SECOND, ST_PINCH) = range(11)
-N_STATS = 11
+ ST_EDGE, ST_SECOND, ST_PINCH, ST_FOLD, ST_RECHECK) = range(13)
+N_STATS = 13
 EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
 STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clearance_skips",
-              "triangles_tested", "edge_fallbacks", "second_surface", "pinched")
+              "triangles_tested", "edge_fallbacks", "second_surface", "pinched", "folds",
+              "rechecked")
 
 # the object pass's inputs, grouped (numba takes named tuples of arrays and numbers; the pass
 # unpacks them, see :func:`object_pass`)
 ObjectTime = namedtuple("ObjectTime", "alpha alpha_prev frame ref clock body_speed")
 ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf")
 ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radius max_depth "
-                          "skip_far use_cache reuse_tol use_clear second plane_band")
+                          "skip_far use_cache reuse_tol use_clear second plane_band recheck")
 ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
                           "pspeed pstamp last pclk csw crel cstamp ct2 cp2 cc2 left")
 Workspace = namedtuple("Workspace", "stack reach spd rec2 stats")
@@ -254,11 +255,27 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
         return False
     w2x, w2y, w2z = _rec_velocity(rec2, 0, alpha, bv, bw)
     stats[ST_SECOND] += 1
+    if not pinch(pos, vel, i, s1, n1x, n1y, n1z, w1x, w1y, w1z, s2, n2x, n2y, n2z, w2x, w2y,
+                 w2z, thickness, friction, planes):
+        return False
+    stats[ST_PINCH] += 1
+    return True
+
+
+@numba.njit(cache=True, _nrt=False)
+def pinch(pos, vel, i, s1, n1x, n1y, n1z, w1x, w1y, w1z, s2, n2x, n2y, n2z, w2x, w2y, w2z,
+          thickness, friction, planes):
+    """Point i between two surfaces, at signed distances ``s1`` along n1 and ``s2`` along n2
+    (moving at w1 and w2): if they face each other (n1·n2 ≤ −0.3) and do not overlap
+    (s1 + s2 ≥ 0), it moves along u = (n1 − n2)/|n1 − n2| to keep the thickness from both
+    where the gap allows it, else to the middle of the gap; its velocity into the first
+    surface, relative to the two surfaces' mean velocity, goes (with friction); its contact
+    plane is the one through it along u. Returns whether it was moved (not: surfaces that
+    do not face each other, or overlap)."""
     c = n1x * n2x + n1y * n2y + n1z * n2z
     gap = s1 + s2
     if c > -0.3 or gap < 0.0:
         return False
-    stats[ST_PINCH] += 1
     ux = n1x - n2x
     uy = n1y - n2y
     uz = n1z - n2z
@@ -269,9 +286,12 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     a = ul * 0.5  # n1·u = −n2·u
     target = min(thickness, 0.5 * gap)
     d = (target - s2) / a  # along −u: s2 grows by a·d, s1 shrinks by as much
-    pos[i, 0] = px - d * ux
-    pos[i, 1] = py - d * uy
-    pos[i, 2] = pz - d * uz
+    px = pos[i, 0] - d * ux
+    py = pos[i, 1] - d * uy
+    pz = pos[i, 2] - d * uz
+    pos[i, 0] = px
+    pos[i, 1] = py
+    pos[i, 2] = pz
     mx = 0.5 * (w1x + w2x)
     my = 0.5 * (w1y + w2y)
     mz = 0.5 * (w1z + w2z)
@@ -280,8 +300,7 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     # the walks worse: docs/collide.md)
     vel[i, 0], vel[i, 1], vel[i, 2] = contact_velocity(vel[i, 0], vel[i, 1], vel[i, 2], ux, uy,
                                                        uz, mx, my, mz, friction)
-    record_plane(planes, i, pos[i, 0], pos[i, 1], pos[i, 2], ux, uy, uz, thickness, thickness,
-                 mx, my, mz, friction)
+    record_plane(planes, i, px, py, pz, ux, uy, uz, thickness, thickness, mx, my, mz, friction)
     return True
 
 
@@ -329,7 +348,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     (:data:`ObjectBody`: the packed body ``vb``/``vp``, ``faces``, ``face_part``, the
     hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``), ``cfg``
     (:data:`ObjectConfig`: thickness, friction, contact slack, search radius, max depth, which
-    skips are on, ``reuse_tol``, ``second``, ``plane_band``), ``pts``
+    skips are on, ``reuse_tol``, ``second``, ``plane_band``, ``recheck``), ``pts``
     (:data:`ObjectPoints`: what is kept per point between calls, below) and ``ws``
     (:data:`Workspace`: a thread's ``stack``, ``reach``, ``spd``, ``rec2`` and counters
     ``stats``). ``held`` (P,) bool and
@@ -394,13 +413,17 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     thickness, the cloth pinched between (:func:`_second_surface`); ``rec2`` (1,54) float32:
     workspace.
 
+    ``recheck``: the points seen were pushed earlier in this response (the frame kept looks
+    at them again): one found outside is left as it is; one inside a surface facing the plane
+    it was pushed onto goes between the two (:func:`_fold`); another is pushed as usual.
+
     A point's work reads the body and writes only that point's entries, so disjoint ranges of
     points run at once on several threads (the GIL released), each with its own workspaces
     ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``."""
     alpha, alpha_prev, frame, ref, clock, body_speed = now
     vb, vp, faces, face_part, nb, links, tris, roots, lf = body
     (thickness, friction, slack, search_radius, max_depth, skip_far, use_cache, reuse_tol,
-     use_clear, second, plane_band) = cfg
+     use_clear, second, plane_band, recheck) = cfg
     # how far beyond the closest triangle the other parts' bounds are looked for
     cert_reach = search_radius
     (cache_tri, cache_p, cache_c, clear, clear_rel, rkey, rec, pspeed, pstamp, last, pclk, csw,
@@ -438,6 +461,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     for i in range(start, stop):
         if use_only and not only[i]:
             continue
+        if recheck:
+            stats[ST_RECHECK] += 1   # seen a second time in this response
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
@@ -677,6 +702,9 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 cache_p[i, 1] = py
                 cache_p[i, 2] = pz
         s, nx, ny, nz, bv, bw = _signed_rec(px, py, pz, rec, i, alpha)
+        if recheck and s >= 0.0:
+            # looked at again after a push: outside, it keeps what that push gave it
+            continue
         if s >= touch:
             if s < touch + plane_band:
                 bvx, bvy, bvz = _rec_velocity(rec, i, alpha, bv, bw)
@@ -697,6 +725,11 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
         if use_clear:
             clear[i] = 0.0
         bvx, bvy, bvz = _rec_velocity(rec, i, alpha, bv, bw)
+        if recheck and _fold(pos, vel, i, s, nx, ny, nz, bvx, bvy, bvz, thickness, friction,
+                             planes):
+            stats[ST_FOLD] += 1
+            _left_here(left, pos, i)
+            continue
         record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
         if s < thickness:
             respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
@@ -712,6 +745,26 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                                stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
                                stats):
                 _left_here(left, pos, i)
+
+
+@numba.njit(cache=True, _nrt=False)
+def _fold(pos, vel, i, s2, n2x, n2y, n2z, w2x, w2y, w2z, thickness, friction, planes):
+    """Point i, pushed off a surface earlier in this response (its contact plane
+    ``planes[i]``), is behind another (signed ``s2`` < 0 along n2, moving at w2): where the
+    body folds onto itself (the skinned arm under the armpit, two fingers) the two may face
+    each other, and a push off the second alone would put the point behind the first. Such a
+    point goes between the two (:func:`pinch`). A point outside the second surface is left
+    to the plain push (it keeps it outside the first: s1 = thickness before, less at most
+    thickness − s2), and a point already put between two parts (whose plane says thickness
+    for a narrower gap) is left to the second-surface check. Returns whether it was moved."""
+    n1x = planes[i, 0]
+    n1y = planes[i, 1]
+    n1z = planes[i, 2]
+    if s2 >= 0.0 or (n1x == 0.0 and n1y == 0.0 and n1z == 0.0):
+        return False
+    s1 = n1x * pos[i, 0] + n1y * pos[i, 1] + n1z * pos[i, 2] - planes[i, 3] + thickness
+    return pinch(pos, vel, i, s1, n1x, n1y, n1z, planes[i, 4], planes[i, 5], planes[i, 6], s2,
+                 n2x, n2y, n2z, w2x, w2y, w2z, thickness, friction, planes)
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from catwalk.collide.collider import N_PARTS, NO_MASK, Collider, Substep
+import numpy as np
+
+from catwalk.collide.collider import N_PARTS, NO_MASK, TORSO, Collider, Substep, moved_far
 from catwalk.collide.object_pass import ObjectPass
 
 
@@ -21,5 +23,15 @@ class ObjectCollider(Collider):
 
     def _resolve(self, s: Substep, held) -> None:
         reach = self._object_pass.reach(self, s.lo, s.hi)
+        start = s.pos.copy() if s.final else None   # the frame kept: what the pass moved
         self._pts = self._object_pass.run(self, s, held, reach & self.tree_parts, self._pts,
                                           NO_MASK)
+        if s.final and held.any():
+            # the frame kept: the points pushed farther than RECHECK_MOVE, and those a limb
+            # holds, once more, each searched afresh (as hybrid's HybridCollider._look_again)
+            t = self._pts.cache_tri
+            limb = (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
+            again = held & (moved_far(s.pos, start) | limb)
+            if again.any():
+                self._pts = self._object_pass.run(self, s, held, reach & self.tree_parts,
+                                                  self._pts, again, recheck=True)

@@ -176,7 +176,8 @@ class ObjectPass:
             col.timings.parts_refit += 1
         col.timings.refit += cpu_time() - t
 
-    def run(self, col, s: Substep, held, active, pts: PointState | None, only):
+    def run(self, col, s: Substep, held, active, pts: PointState | None, only,
+            recheck: bool = False):
         """The pass over the ``active`` parts with the per-point state ``pts`` (made when
         missing or of another size; returned); ``only``: the points to see (empty: all).
         Fixes the points in contact, marks them in ``held``, sets their planes.
@@ -185,7 +186,13 @@ class ObjectPass:
         torso) answers only points within the search radius (plus their motion) whether or
         not the ``far_points`` skip is on: a triangle of its parts farther away says nothing
         of the point's side — beyond a limb's open rim its tangent plane puts torso points
-        "inside"."""
+        "inside".
+
+        ``recheck``: the points seen were pushed earlier in this response (the frame kept
+        looks at them again, :class:`~catwalk.collide.collider.Substep` ``final``): each is
+        searched afresh (no kept triangle reused); one found outside is left as it is, one
+        behind a surface facing the one it was pushed off goes between the two
+        (:func:`catwalk.collide.kernels._fold`)."""
         n = len(s.pos)
         if not active.any():
             if len(only) == 0:
@@ -212,8 +219,9 @@ class ObjectPass:
         cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth,
                                    col.skips.far_points or bool(np.any(col._present & ~active)),
-                                   col.skips.reuse_closest, col.reuse_tol, col.skips.clearance,
-                                   col.second_surface, col.plane_band))
+                                   col.skips.reuse_closest and not recheck, col.reuse_tol,
+                                   col.skips.clearance, col.second_surface, col.plane_band,
+                                   recheck))
         arrays = tuple(pts.arrays())
 
         def points(start, stop, stack, reach, spd, rec2, stats):

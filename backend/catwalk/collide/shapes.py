@@ -91,6 +91,44 @@ def sphere(centre=(0.0, 0.0, 0.0), radius=0.1, n_around=48, n_rings=24):
     return capsule(c, c, radius, n_around=n_around, n_cap=max(n_rings // 2, 2), n_body=1)
 
 
+def notched_prism(half=0.05, depth=0.03, half_width=0.005, length=0.1, rings=21):
+    """A square prism along Z (side ``2·half``, ``length`` long, centred on the origin) with a
+    V notch ``depth`` deep and ``2·half_width`` wide cut along the middle of its top face (a
+    fold of one part onto itself, like the skinned arm's under the armpit), outward faces,
+    ``rings`` rings along Z. Flat shaded: each triangle has its own three vertices, so its
+    normal is the face's up to the notch's bottom. Returns (vertices, faces)."""
+    a, d, w = half, depth, half_width
+    poly = np.array([(-a, -a), (a, -a), (a, a), (w, a), (0.0, a - d), (-w, a), (-a, a)])
+    n = len(poly)   # counter-clockwise seen from +Z
+    zs = np.linspace(-length / 2, length / 2, rings)
+    v = np.r_[np.concatenate([np.c_[poly, np.full(n, z)] for z in zs]),
+              [[0.0, -a / 2, zs[0]], [0.0, -a / 2, zs[-1]]]]
+    c0, c1, last = rings * n, rings * n + 1, (rings - 1) * n
+    faces = []
+    for i in range(n):
+        j = (i + 1) % n
+        for r in range(rings - 1):
+            p, q = r * n, (r + 1) * n
+            faces += [(p + i, p + j, q + j), (p + i, q + j, q + i)]
+        faces += [(c0, j, i), (c1, last + i, last + j)]   # the end caps (fans)
+    f = np.array(faces)
+    return v[f].reshape(-1, 3), np.arange(3 * len(f), dtype=np.int32).reshape(-1, 3)
+
+
+def notched_prism_depth(points, half=0.05, depth=0.03, half_width=0.005, length=0.1):
+    """How deep each point is inside :func:`notched_prism` of the same sizes (0 outside), for
+    points near its notch (within the prism's length)."""
+    a, d, w = half, depth, half_width
+    x, y, z = np.asarray(points, dtype=np.float64).T
+    beta = math.atan2(w, d)   # the notch's half angle
+    # signed distances to the notch's two faces' planes, positive on the notch's side
+    da = x * math.cos(beta) + (y - (a - d)) * math.sin(beta)
+    db = -x * math.cos(beta) + (y - (a - d)) * math.sin(beta)
+    inside = (np.abs(x) < a) & (np.abs(y) < a) & (np.abs(z) < length / 2) & (
+        (da < 0) | (db < 0))
+    return np.where(inside, np.maximum(-da, -db), 0.0)
+
+
 def merge(meshes):
     """Concatenate (vertices, faces) pairs into one mesh."""
     vs, fs, off = [], [], 0

@@ -25,11 +25,13 @@ class Contacts(NamedTuple):
     planes: np.ndarray | None
 
 
-def body_contacts(collider, state: State, x0: np.ndarray, alpha: float | None) -> Contacts:
+def body_contacts(collider, state: State, x0: np.ndarray, alpha: float | None,
+                  final: bool = False) -> Contacts:
     """The body's collider at ``alpha`` of its frame: it moves the points out of the body and
-    fixes their velocities in place (``x0``: where they were at the last response)."""
-    held = np.asarray(collider.resolve(state.positions, state.velocities, x0, alpha=alpha),
-                      dtype=bool)
+    fixes their velocities in place (``x0``: where they were at the last response);
+    ``final``: the answer is the frame kept (the collider's ``resolve``)."""
+    held = np.asarray(collider.resolve(state.positions, state.velocities, x0, alpha=alpha,
+                                       final=final), dtype=bool)
     planes = getattr(collider, "planes", None)
     if planes is None or planes.shape != (len(held), PLANE_COLUMNS):
         planes = None

@@ -39,11 +39,13 @@ def quiet(stage: str, i: int, total: int) -> None:
     pass
 
 
-def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | None) -> None:
-    """One detection: the body's contacts (the collider at ``alpha``), then the floor's; the
-    state keeps the held points and their contact planes (the body's, the floor's for points
-    on it that the body does not hold) until the next response."""
-    body = body_contacts(collider, state, x0, alpha)
+def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | None,
+                      final: bool = False) -> None:
+    """One detection: the body's contacts (the collider at ``alpha``; ``final``: the frame
+    kept), then the floor's; the state keeps the held points and their contact planes (the
+    body's, the floor's for points on it that the body does not hold) until the next
+    response."""
+    body = body_contacts(collider, state, x0, alpha, final)
     keep(state, body, Floor(collider.thickness, collider.friction).resolve(state))
 
 

@@ -228,9 +228,10 @@ def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_
     n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
                     settings.max_collisions * 4, clock, cancel)
     # the relaxation may have pulled free points into the body: settle the frame's final
-    # positions against the body as it is at the frame's time
+    # positions against the body as it is at the frame's time (the frame recorded: the
+    # pushed points looked at again, each searched afresh)
     t2 = time.perf_counter()
-    collide_and_floor(state, collider, x0, 1.0)
+    collide_and_floor(state, collider, x0, 1.0, final=True)
     tc += time.perf_counter() - t2 + clock.get("collider", 0.0)
     tally.slowed += clock.get("slowed", 0)
     return n_col, tc, clock.get("cloth", 0.0), clock
