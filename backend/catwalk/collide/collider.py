@@ -254,6 +254,11 @@ class Collider:
         self.tree_parts &= self._present
         self.hier_parts = self.tree_parts | (self.map_parts & self._present & mapped_in_tree)
 
+    def _on_limb(self, tri: np.ndarray) -> np.ndarray:
+        """(P,) bool: the points whose kept triangle ``tri`` (an object pass's ``cache_tri``,
+        −1: none) is a limb's."""
+        return (tri >= 0) & (self.face_part[np.maximum(tri, 0)] != TORSO)
+
     def _mapped_faces(self) -> np.ndarray:
         """The faces of the parts in the depth maps (:attr:`map_parts`)."""
         return np.nonzero(self.map_parts[self.face_part])[0]

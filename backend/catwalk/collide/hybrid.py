@@ -115,8 +115,7 @@ class HybridCollider(Collider):
         the all-parts pass (``he``)."""
         near = hl.copy()
         if flagged and self._edge_pts is not None:
-            t = self._edge_pts.cache_tri
-            near |= he & (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
+            near |= he & self._on_limb(self._edge_pts.cache_tri)
         return near
 
     def _look_again(self, s: Substep, held, reach, flagged: bool, track: bool, start) -> None:

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import numpy as np
-
-from catwalk.collide.collider import N_PARTS, NO_MASK, TORSO, Collider, Substep, moved_far
+from catwalk.collide.collider import N_PARTS, NO_MASK, Collider, Substep, moved_far
 from catwalk.collide.object_pass import ObjectPass
 
 
@@ -29,9 +27,7 @@ class ObjectCollider(Collider):
         if s.final and held.any():
             # the frame kept: the points pushed farther than RECHECK_MOVE, and those a limb
             # holds, once more, each searched afresh (as hybrid's HybridCollider._look_again)
-            t = self._pts.cache_tri
-            limb = (t >= 0) & (self.face_part[np.maximum(t, 0)] != TORSO)
-            again = held & (moved_far(s.pos, start) | limb)
+            again = held & (moved_far(s.pos, start) | self._on_limb(self._pts.cache_tri))
             if again.any():
                 self._pts = self._object_pass.run(self, s, held, reach & self.tree_parts,
                                                   self._pts, again, recheck=True)
