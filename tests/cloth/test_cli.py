@@ -2,6 +2,8 @@ import json
 import subprocess
 import sys
 
+import numpy as np
+
 from catwalk.cli import main
 
 
@@ -32,11 +34,18 @@ def test_bench_drape_json(capsys):
 
 
 def test_bench_drape_says_the_error_against_the_measured_fabrics_and_probes_a_property(
-        capsys):
+        capsys, tmp_path):
     args = ["bench", "drape", "--json", "--fabrics", "m2,m6", "--h", "0.03",
             "--max-seconds", "0.3"]
-    assert main(args) == 0
+    assert main([*args, "--plot", str(tmp_path / "dc.png")]) == 0
     res = json.loads(capsys.readouterr().out)
+    # the plot: a dot per measured fabric, ours blue and CLO3D's grey
+    from PIL import Image
+
+    img = np.asarray(Image.open(tmp_path / "dc.png").convert("RGB"))
+    assert img.shape == (600, 900, 3)
+    assert (img == (60, 90, 200)).all(axis=2).sum() > 2 * 30
+    assert (img == (150, 150, 150)).all(axis=2).sum() > 2 * 30
     m = res["against_measured"]
     assert set(m["fabrics"]) == {"m2", "m6"}
     assert m["fabrics"]["m6"]["measured"] == 0.549
@@ -55,6 +64,7 @@ def test_bench_bad_input_exits_2():
     for args in (["bench", "drape", "--fabrics", "tweed"], ["bench", "cloth", "--h", "-1"],
                  ["bench", "drape", "--shear-scale", "0"],
                  ["bench", "drape", "--compression", "1.5"],
+                 ["bench", "drape", "--fabrics", "denim", "--plot", "dc.png"],
                  ["bench", "cloth", "--methods", "magic"]):
         res = subprocess.run([sys.executable, "-m", "catwalk.cli", *args], capture_output=True,
                              text=True)

@@ -82,6 +82,13 @@ def test_the_settings_reach_the_collider():
     assert c.threads == 2 and not any(vars(c.skips).values())
     with pytest.raises(InputError, match="skips must be true or false"):
         preset("balanced").with_(skips="no")
+    # one skip off alone (a row of bench pareto): the others stay on
+    one = preset("balanced").with_(skips_off=("clearance",)).collider_options()["skips"]
+    assert not one.clearance and one.reuse_closest and one.far_points and one.still_torso
+    with pytest.raises(InputError, match=r"skips_off must be a list of the collider's skips "
+                       r"\(unreached_parts, still_torso, far_points, reuse_closest, clearance\), "
+                       r"got \('sleep',\)"):
+        preset("balanced").with_(skips_off=("sleep",))
 
 
 def test_the_plane_band_reaches_the_walks_collider_only():

@@ -10,19 +10,34 @@ from catwalk.collide.shapes import capsule, sphere
 from catwalk.simulate.metrics import BodySurface, segments_crossing
 
 
-def _tallied(x, frames=1, tau=0.1):
+def _tally(x, frames=1, tau=0.1, vx=None, body_v=(0.0, 0.0, 0.0)):
     """A walk's tally over ``frames`` frames of springs of rest 0.3 m joining points 0–1, 2–3,
-    … of ``x`` beside a sphere of radius 0.1 m at (0, 1, 0)."""
+    … of ``x`` (velocities ``vx``, default at rest) beside a sphere of radius 0.1 m at (0, 1,
+    0) moving at ``body_v``."""
     v, f = sphere((0.0, 1.0, 0.0), 0.1, 48, 24)
     n = len(x) // 2
     model = SimpleNamespace(n_limited=n, spring_a=np.arange(0, 2 * n, 2),
                             spring_b=np.arange(1, 2 * n, 2), spring_rest=np.full(n, 0.3),
                             mass=np.ones(len(x)), seam_a=np.zeros(0, int))
-    state = SimpleNamespace(positions=x, velocities=np.zeros_like(x))
+    state = SimpleNamespace(positions=x, velocities=np.zeros_like(x) if vx is None else vx)
     tally = walking._Tally(BodySurface(f, len(v)), tau=tau)
     for _ in range(frames):
-        tally.frame(model, state, x, v, 0)
+        tally.frame(model, state, x, v, np.tile(body_v, (len(v), 1)), 0)
+    return model, tally
+
+
+def _tallied(x, frames=1, tau=0.1):
+    _, tally = _tally(x, frames, tau)
     return tally.over, tally.over_crossing
+
+
+def test_points_carried_by_the_body_rest_those_sliding_over_it_do_not():
+    # four points 5 mm off a sphere walking at 1.2 m/s: two carried along (one within 1 cm/s
+    # of it), two sliding 5 cm/s over it or standing still while it walks
+    x = np.array([[0.105, 1.0, 0.0], [-0.105, 1.0, 0.0], [0.0, 1.105, 0.0], [0.0, 0.895, 0.0]])
+    vx = np.array([[1.2, 0.0, 0.0], [1.2, 0.005, 0.0], [1.2, 0.0, 0.05], [0.0, 0.0, 0.0]])
+    model, tally = _tally(x, frames=2, vx=vx, body_v=(1.2, 0.0, 0.0))
+    assert tally.stats(model, 2, 0.0)["resting_share"] == 0.5
 
 
 def test_a_segment_through_a_sphere_meets_it_one_beside_it_does_not():

@@ -30,6 +30,17 @@ def test_identical_runs_compare_to_zero_and_the_error_grows_with_the_step():
     assert 0.0 < errs[0] < errs[1] < errs[2], errs
 
 
+def test_each_skip_is_a_run_of_its_own():
+    from catwalk.bench.pareto import default_runs
+
+    runs = dict(default_runs(["balanced"]))
+    for name in ("unreached_parts", "still_torso", "far_points", "reuse_closest", "clearance"):
+        ch = runs[f"balanced, skip {name} off"]
+        skips = preset("balanced").with_(skips_off=ch["skips_off"]).collider_options()["skips"]
+        assert [k for k, on in vars(skips).items() if not on] == [name]
+    assert runs["balanced, skips off"] == {"preset": "balanced", "skips": False}
+
+
 def test_the_front():
     pts = [(1.0, 5.0), (2.0, 3.0), (3.0, 4.0), (4.0, 1.0), (2.0, 3.0)]
     assert pareto_front(pts) == [True, True, False, True, True]

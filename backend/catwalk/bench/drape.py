@@ -2,7 +2,8 @@
 every fabric preset and the six measured fabrics of Petrak et al. 2025; prints each drape
 coefficient DC = (shadow − disc) / (specimen − disc), its number of nodes (folds hanging
 outward: :func:`catwalk.cloth.drape.drape_nodes`) and the grid spacing h used; for m1–m6 also
-the measured DC and CLO3D's, our error and the mean absolute errors.
+the measured DC and CLO3D's, our error and the mean absolute errors (``--plot FILE``: the
+same as a PNG, simulated against measured).
 
 ``--bend-scale``, ``--shear-scale``, ``--compression``: the same fabrics with their bending
 rigidity or shear stiffness scaled, or another compression share — what each property moves
@@ -55,6 +56,32 @@ def against_measured(dcs: dict) -> dict:
                                               for r in rows.values()) / n, 4)}
 
 
+def plot(dcs: dict, h: float, path) -> None:
+    """Simulated DC (y) against measured DC (x) for the measured fabrics among ``dcs``: ours
+    (blue dots, named) and CLO3D's from the same inputs (grey squares), with y = x and the
+    target band ± 0.03."""
+    from catwalk.bench.chart import Chart
+
+    rows = against_measured(dcs)["fabrics"]
+    hi = max([0.7] + [max(dcs[k], r["measured"], r["clo3d"]) + 0.05 for k, r in rows.items()])
+    hi = min(math.ceil(hi * 10) / 10, 1.0)
+    n = int(round(hi * 10))
+    c = Chart((0.0, hi), (0.0, hi), "measured drape coefficient (Cusick)",
+              f"simulated drape coefficient (ours at h = {h * 100:g} cm: blue; CLO3D: grey)",
+              x_ticks=n, y_ticks=n)
+    c.line([(0.0, 0.0), (hi, hi)], (120, 120, 120))
+    for off in (-0.03, 0.03):
+        c.line([(max(0.0, -off), max(0.0, off)), (min(hi, hi - off), min(hi, hi + off))],
+               (200, 200, 200))
+    c.text(hi - 0.12, hi - 0.12 - 0.03, "± 0.03", (120, 120, 120), dx=10, dy=4)
+    for k, r in rows.items():
+        c.dot(r["measured"], r["clo3d"], (150, 150, 150), square=True)
+        c.line([(r["measured"], r["measured"]), (r["measured"], dcs[k])], (150, 170, 230))
+        c.dot(r["measured"], dcs[k], (60, 90, 200))
+        c.text(r["measured"], dcs[k], k)
+    c.save(path)
+
+
 def fabric_ids(only: str = "") -> list[str]:
     if only:
         ids = [s.strip() for s in only.split(",") if s.strip()]
@@ -72,9 +99,13 @@ def main(args) -> int:
             raise InputError(f"{flag} must be a positive factor, got {v}")
     if args.compression is not None and not 0.0 <= args.compression <= 1.0:
         raise InputError(f"--compression must be within 0–1, got {args.compression}")
+    ids = fabric_ids(args.fabrics)
+    if args.plot and not any(i in MEASURED_DC for i in ids):
+        raise InputError(f"--plot draws the fabrics with a measured drape coefficient "
+                         f"({', '.join(MEASURED_DC)}); none is among {', '.join(ids)}")
     out = {}
     rows = []
-    for fid in fabric_ids(args.fabrics):
+    for fid in ids:
         fabric = probed(fid, args.bend_scale, args.shear_scale, args.compression)
         t0 = time.perf_counter()
         r = cusick_drape(fabric, h=args.h, method=args.method, max_seconds=args.max_seconds)
@@ -87,6 +118,8 @@ def main(args) -> int:
             render_cloth(r.model, r.state.positions, Path(args.png) / f"drape-{fid}.png",
                          view=30, size=(480, 320), floor=False)
     measured = against_measured({k: v["dc"] for k, v in out.items()})
+    if args.plot:
+        plot({k: v["dc"] for k, v in out.items()}, args.h, args.plot)
     probes = {"bend_scale": args.bend_scale, "shear_scale": args.shear_scale,
               "compression": args.compression}
     if args.json:
@@ -124,5 +157,8 @@ def register(bench) -> None:
     p.add_argument("--compression", type=float, default=None, metavar="C",
                    help="every fabric's compression share (0–1; default: its own)")
     p.add_argument("--png", default="", help="folder to write a rendered PNG per fabric")
+    p.add_argument("--plot", default="", metavar="FILE",
+                   help="plot simulated against measured DC of the measured fabrics (m1–m6) "
+                   "into this PNG")
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=main)

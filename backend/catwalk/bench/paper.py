@@ -114,6 +114,8 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
                      **_threaded(body, motion, dressed, walking.with_(collider=mode), threads,
                                  w)}
     default = walking.collider
+    if default in walks:
+        out[default]["limb_contacts"] = limb_contacts(body, motion, walks[default], walking)
     if default in walks and reference:
         out.update(_against_reference(body, motion, dressed, walking, walks[default],
                                       out[default], progress))
@@ -139,6 +141,44 @@ def _walk_figures(w) -> dict:
         "collider_counts_per_response": {
             k: round(v / s["collider_calls"], 1) for k, v in s["collider_counts"].items()},
     }
+
+
+#: m. A limb vertex within this of its dominant bone's rigid motion over the walk moves with
+#: that bone (:func:`catwalk.motion.skinning.rigid_deviation`)
+RIGID_TOL = 0.001
+#: m. A cloth point this near a limb's triangle (its nearest of the body's) touches that limb
+LIMB_REACH = 0.02
+
+
+def limb_contacts(body, motion, w, settings) -> dict:
+    """How much of the walk's cloth touching a limb touches skin that moves rigidly with one
+    bone (what a distance field per limb segment in its bone's frame could answer exactly):
+    the share of the limbs' vertices within ``RIGID_TOL`` of their dominant bone's rigid
+    motion, the recorded point-frames within ``LIMB_REACH`` of a limb (by the independent
+    check's nearest triangle), and the share of those whose nearest triangle is rigid."""
+    import numpy as np
+
+    from catwalk.collide.collider import TORSO
+    from catwalk.motion.skinning import rigid_deviation
+    from catwalk.simulate.metrics import BodySurface
+    from catwalk.simulate.walking import walk_body_frames
+
+    verts, _, n_pre = walk_body_frames(body, motion, settings)
+    verts = verts[n_pre:]
+    dev = rigid_deviation(body, motion, verts)
+    limb_vertex = body.parts != TORSO
+    rigid_tri = dev[body.faces].max(axis=1) < RIGID_TOL
+    limb_tri = (body.parts[body.faces] != TORSO).all(axis=1)
+    surface = BodySurface(body.faces, len(body.vertices))
+    near = on_rigid = 0
+    for f in range(len(w.positions)):
+        _, d, t, _ = surface.closest(verts[f], w.positions[f])
+        touching = (np.abs(d) < LIMB_REACH) & limb_tri[t]
+        near += int(touching.sum())
+        on_rigid += int((touching & rigid_tri[t]).sum())
+    return {"limb_vertices_rigid_share": round(float((dev[limb_vertex] < RIGID_TOL).mean()), 4),
+            "point_frames_touching_a_limb": near,
+            "touching_rigid_skin_share": round(on_rigid / max(1, near), 4)}
 
 
 def reference_walk_settings(walking, steps_per_frame: int):

@@ -16,9 +16,9 @@ cost is its milliseconds per 30-fps frame (collider + cloth, one core). A run is
 **Pareto front** when no other run is both faster and nearer the reference.
 
 The settings run by default: the three presets, and ``balanced`` with one thing changed at a
-time (collider mode, resolves a frame, grid spacing, depth-map size, the skips off) — each
-change's saving and its error cost side by side. ``--grid`` runs every combination of
-collider × resolves × h × skips instead.
+time (collider mode, resolves a frame, grid spacing, depth-map size, the skips all off and
+each skip off alone) — each change's saving and its error cost side by side. ``--grid`` runs
+every combination of collider × resolves × h × skips instead.
 
 The cloth is chaotic: two walks a few micrometres apart at the start part by centimetres
 within a second where folds form. ``noise_mm`` measures that floor — the reference against
@@ -27,14 +27,19 @@ itself with the dressing's result moved 0.1 mm — and errors within it are not 
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import json
 import time
 
 from catwalk.bench import walk_errors
+from catwalk.collide import Skips
 from catwalk.simulate.fidelity import NUDGE
 
 REFERENCE_H = 0.01
+#: the collider's skips (:class:`~catwalk.collide.collider.Skips`), each switched off alone in
+#: a run of the default list
+SKIP_NAMES = tuple(f.name for f in dataclasses.fields(Skips))
 RESOLVES = {"5": {"min_collisions": 5, "max_move": 0.02},
             "10": {"min_collisions": 10, "max_move": 0.01},
             "20": {"min_collisions": 20, "max_move": 0.005, "max_collisions": 80}}
@@ -51,6 +56,7 @@ def default_runs(presets) -> list[tuple[str, dict]]:
         ("h 2.5 cm", {"h": 0.025}),
         ("h 1 cm", {"h": 0.01}),
         ("skips off", {"skips": False}),
+        *((f"skip {name} off", {"skips_off": (name,)}) for name in SKIP_NAMES),
         ("maps 128", {"map_size": 128}),
         ("maps 384", {"map_size": 384}),
     ]
@@ -179,8 +185,8 @@ def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "
 
 
 def _settings_dict(s) -> dict:
-    keys = ("name", "collider", "h", "map_size", "skips", "min_collisions", "max_collisions",
-            "max_move", "step_safety", "thickness")
+    keys = ("name", "collider", "h", "map_size", "skips", "skips_off", "min_collisions",
+            "max_collisions", "max_move", "step_safety", "thickness")
     d = s.as_dict()
     return {k: d[k] for k in keys}
 
@@ -188,7 +194,8 @@ def _settings_dict(s) -> dict:
 def _errors(s: dict) -> dict:
     ms = s["ms_per_frame"]
     return {"ms_per_frame": round(ms["collider"] + ms["cloth"], 2), **walk_errors(s),
-            "max_seam_gap_mm": round(s["max_seam_gap_mm"], 2)}
+            "max_seam_gap_mm": round(s["max_seam_gap_mm"], 2),
+            "resting_share": s.get("resting_share")}
 
 
 def format_table(r: dict) -> str:
@@ -215,55 +222,27 @@ def format_table(r: dict) -> str:
 def plot(r: dict, path) -> None:
     """Time (x, log) against RMS error (y): every run a dot, the front joined, the presets
     named."""
-    import math
-
-    from PIL import Image, ImageDraw
+    from catwalk.bench.chart import Chart
 
     runs = [x for x in r["runs"] if "failed" not in x]
-    w, hgt, m = 900, 600, 70
-    img = Image.new("RGB", (w, hgt), "white")
-    g = ImageDraw.Draw(img)
-    ts = [math.log10(x["ms_per_frame"]) for x in runs]
+    ts = [x["ms_per_frame"] for x in runs]
     es = [x["rms_mm"] for x in runs] + [r["noise_mm"]]
-    t_lo, t_hi = min(ts) - 0.05, max(ts) + 0.05
-    e_hi = max(es) * 1.1 or 1.0
-
-    def xy(t, e):
-        return (m + (t - t_lo) / (t_hi - t_lo) * (w - 2 * m),
-                hgt - m - e / e_hi * (hgt - 2 * m))
-
-    g.line([(m, hgt - m), (w - m, hgt - m)], fill="black")
-    g.line([(m, m), (m, hgt - m)], fill="black")
-    g.text((w / 2 - 80, hgt - m + 30), "ms per frame (log scale)", fill="black")
-    g.text((8, m - 30), "RMS distance to the reference (mm)", fill="black")
-    for k in range(math.floor(t_lo), math.ceil(t_hi) + 1):
-        for mult in (1, 2, 5):
-            t = k + math.log10(mult)
-            if t_lo <= t <= t_hi:
-                px, _ = xy(t, 0)
-                g.line([(px, hgt - m), (px, hgt - m + 6)], fill="black")
-                g.text((px - 10, hgt - m + 10), f"{10 ** t:g}", fill="black")
-    for k in range(0, 6):
-        e = e_hi * k / 5
-        _, py = xy(t_lo, e)
-        g.line([(m - 6, py), (m, py)], fill="black")
-        g.text((8, py - 6), f"{e:.1f}", fill="black")
-    _, ny = xy(t_lo, r["noise_mm"])
-    g.line([(m, ny), (w - m, ny)], fill=(170, 170, 170))
-    g.text((w - m - 150, ny - 14), "noise floor", fill=(120, 120, 120))
-    front = sorted((t, x["rms_mm"]) for t, x in zip(ts, runs, strict=True) if x.get("pareto"))
+    c = Chart((min(ts) / 10 ** 0.05, max(ts) * 10 ** 0.05), (0.0, max(es) * 1.1 or 1.0),
+              "ms per frame (log scale)", "RMS distance to the reference (mm)", log_x=True)
+    c.line([(c.x_at_left(), r["noise_mm"]), (max(ts) * 10 ** 0.05, r["noise_mm"])],
+           (170, 170, 170))
+    c.text(max(ts) * 10 ** 0.05, r["noise_mm"], "noise floor", (120, 120, 120), dx=-150)
+    front = sorted((x["ms_per_frame"], x["rms_mm"]) for x in runs if x.get("pareto"))
     if len(front) > 1:
-        g.line([xy(t, e) for t, e in front], fill=(200, 60, 60), width=2)
-    for t, x in zip(ts, runs, strict=True):
-        px, py = xy(t, x["rms_mm"])
+        c.line(front, (200, 60, 60), width=2)
+    for x in runs:
         preset_run = x["label"].startswith("preset ")
         col = (200, 60, 60) if x.get("pareto") else (60, 90, 200)
-        rad = 6 if preset_run else 4
-        g.ellipse([px - rad, py - rad, px + rad, py + rad], fill=col if not preset_run else None,
-                  outline=col, width=2)
+        c.dot(x["ms_per_frame"], x["rms_mm"], col, 6 if preset_run else 4,
+              filled=not preset_run)
         if preset_run:
-            g.text((px + 8, py - 14), x["label"].split()[1], fill="black")
-    img.save(path)
+            c.text(x["ms_per_frame"], x["rms_mm"], x["label"].split()[1])
+    c.save(path)
 
 
 def register(bench) -> None:

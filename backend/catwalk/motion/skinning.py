@@ -125,6 +125,22 @@ def skinning_matrices(skeleton: Skeleton, world: np.ndarray) -> np.ndarray:
     return world @ skeleton.inverse_bind
 
 
+def rigid_deviation(body: Body, motion: Motion, verts: np.ndarray) -> np.ndarray:
+    """Per vertex, the farthest (m) its skinned position ``verts`` (F, N, 3) over ``motion``'s
+    F frames strays from where its dominant joint's transform alone carries it (0: the vertex
+    moves rigidly with one bone, as a distance field in that bone's frame would)."""
+    sk = body.skeleton
+    mats = skinning_matrices(sk, joint_world_matrices(sk, motion.rotations,
+                                                      motion.translations))
+    dom = body.skin_joints[np.arange(len(body.vertices)), np.argmax(body.skin_weights, axis=1)]
+    rest = np.c_[body.vertices, np.ones(len(body.vertices))]
+    out = np.zeros(len(body.vertices))
+    for f in range(len(mats)):   # a frame at a time: (N, 3, 4) gathered, not (F, N, 3, 4)
+        carried = np.einsum("vij,vj->vi", mats[f, dom, :3, :], rest)
+        np.maximum(out, np.linalg.norm(carried - verts[f], axis=1), out=out)
+    return out
+
+
 def body_frames(body: Body, motion: Motion, *, cancel=None, progress=None,
                 chunk: int = 16) -> tuple[np.ndarray, np.ndarray]:
     """Per-frame world-space vertices (F, N, 3) float32 and velocities (F, N, 3) float32 (m/s).

@@ -2,10 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 
 from catwalk.cloth.solver import INTEGRATORS
-from catwalk.collide import MODES
+from catwalk.collide import MODES, Skips
 from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
 
@@ -17,6 +17,15 @@ def _in_range(name: str, value, lo, hi, span: str | None = None, *, whole: bool 
     if isinstance(value, bool) or not isinstance(value, kinds) or not lo <= value <= hi:
         what = "a whole number within" if whole else "within"
         raise InputError(f"setting {name} must be {what} {span or f'{lo}–{hi}'}, got {value!r}")
+
+
+def _check_skips_off(names) -> None:
+    """Refuse ``skips_off`` unless it is a list of the collider's skips' names."""
+    known = [f.name for f in fields(Skips)]
+    if isinstance(names, str) or not isinstance(names, (tuple, list)) or \
+            any(n not in known for n in names):
+        raise InputError(f"setting skips_off must be a list of the collider's skips "
+                         f"({', '.join(known)}), got {names!r}")
 
 
 @dataclass(frozen=True)
@@ -39,7 +48,9 @@ class Settings:
     next (0, the default: planes for the held points only; docs/tryon.md "How many responses
     a frame" has what 1 cm buys and why it is off),
     ``skips`` the collider's work-saving skips (:class:`~catwalk.collide.collider.Skips`) all
-    on, or all off (the reference of ``catwalk bench pareto``), ``threads`` the threads the
+    on, or all off (the reference of ``catwalk bench pareto``); with them on, ``skips_off``
+    names those switched off one by one (``Skips``' fields: what each saves and costs is a
+    row of ``catwalk bench pareto``), ``threads`` the threads the
     collider's object and image passes split the cloth's points over (one try-on on a machine
     of its own: its cores; a worker among as many as the cores: 1).
     Dressing: ``sew_collisions`` / ``settle_collisions`` collider resolves per 1/30 s while
@@ -66,6 +77,7 @@ class Settings:
     collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
+    skips_off: tuple[str, ...] = ()
     threads: int = 1
     thickness: float = 0.004
     friction: float | None = None
@@ -103,6 +115,7 @@ class Settings:
                 raise InputError(f"setting {key} must be a positive number, got {v!r}")
         if not isinstance(self.skips, bool):
             raise InputError(f"setting skips must be true or false, got {self.skips!r}")
+        _check_skips_off(self.skips_off)
         _in_range("step_safety", self.step_safety, 0.05, 1.0, "0.05–1 (the share of the cloth's "
                   "stable time step its steps take; beyond 1 the explicit integration is "
                   "unstable and blows up)")
@@ -122,10 +135,9 @@ class Settings:
         """The keyword arguments of :func:`~catwalk.collide.make_collider` these settings
         fix (friction is the caller's: the fabric's, or none while sewing); ``walking``: the
         walk's collider (with ``plane_band``)."""
-        from catwalk.collide import Skips
-
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
-                "skips": None if self.skips else Skips.off(), "threads": self.threads,
+                "skips": Skips(**dict.fromkeys(self.skips_off, False)) if self.skips
+                else Skips.off(), "threads": self.threads,
                 "plane_band": self.plane_band if walking else 0.0}
 
     def with_(self, **changes) -> Settings:

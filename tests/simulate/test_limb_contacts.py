@@ -1,0 +1,62 @@
+"""``catwalk bench paper``'s ``limb_contacts``: how much of the cloth touching a limb touches
+skin that moves rigidly with one bone (the reach of a distance field per limb segment)."""
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from catwalk.bench.paper import limb_contacts
+from catwalk.body.types import Motion
+from catwalk.motion.quat import axis_angle, mat_to_quat, quat_to_mat
+from catwalk.render.raster import vertex_normals
+from catwalk.simulate import preset
+from catwalk.simulate.walking import walk_body_frames
+
+
+def _elbow_bent(body, frames=3):
+    """The rest pose, the left elbow bending 30° a frame."""
+    sk = body.skeleton
+    q = np.repeat(mat_to_quat(sk.rest_local[:, :3, :3])[None], frames, axis=0)
+    t = np.repeat(sk.rest_local[None, :, :3, 3], frames, axis=0).copy()
+    elbow = sk.names.index("lowerarm_l")
+    for k in range(frames):
+        bend = axis_angle(np.array([1.0, 0.0, 0.0]), np.radians(30.0 * k))
+        q[k, elbow] = mat_to_quat(bend @ quat_to_mat(q[k, elbow]))
+    return Motion(fps=30.0, rotations=q, translations=t, loop=False)
+
+
+def _cloth_off(body, motion, settings, idx, off=0.005):
+    """Points ``off`` outside the body's vertices ``idx`` at every frame of ``motion``."""
+    verts, _, n_pre = walk_body_frames(body, motion, settings)
+    pos = [v[idx] + off * vertex_normals(v.astype(np.float64), body.faces)[idx]
+           for v in verts[n_pre:]]
+    return SimpleNamespace(positions=np.array(pos, np.float32))
+
+
+def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dressable_body):
+    b = dressable_body
+    motion = _elbow_bent(b)
+    settings = preset("balanced")
+    w = b.skin_weights.max(axis=1)
+    joint = b.skin_joints[np.arange(len(w)), np.argmax(b.skin_weights, axis=1)]
+    fore = b.skeleton.names.index("lowerarm_l")
+    # every vertex of every triangle round it on the forearm bone alone; and skin blended
+    # across the elbow (the forearm's and the upper arm's)
+    alone = np.ones(len(w), bool)
+    np.logical_and.at(alone, b.faces.ravel(), np.repeat((w[b.faces] > 0.999).all(axis=1) &
+                                                        (joint[b.faces] == fore).all(axis=1), 3))
+    alone &= joint == fore
+    order = np.argsort(-b.skin_weights, axis=1)
+    second = b.skin_joints[np.arange(len(w)), order[:, 1]]
+    upper = b.skeleton.names.index("upperarm_l")
+    across = ((joint == fore) & (second == upper)) | ((joint == upper) & (second == fore))
+    blended = np.flatnonzero(across & (w < 0.7))
+    assert len(blended) > 20 and alone.sum() > 20
+    r = limb_contacts(b, motion, _cloth_off(b, motion, settings, np.flatnonzero(alone)[:40]),
+                      settings)
+    assert r["point_frames_touching_a_limb"] == 3 * 40
+    assert r["touching_rigid_skin_share"] == 1.0
+    assert 0.5 < r["limb_vertices_rigid_share"] < 1.0   # the elbow's blended skin strays
+    r = limb_contacts(b, motion, _cloth_off(b, motion, settings, blended[:40]), settings)
+    assert r["point_frames_touching_a_limb"] >= 0.9 * 3 * 40   # (a few nearest the torso)
+    assert r["touching_rigid_skin_share"] < 0.5
