@@ -57,6 +57,15 @@ def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dr
     assert r["point_frames_touching_a_limb"] == 3 * 40
     assert r["touching_rigid_skin_share"] == 1.0
     assert 0.5 < r["limb_vertices_rigid_share"] < 1.0   # the elbow's blended skin strays
+    # carried back to the rest pose by one bone's transform, a point keeps its distance
+    rp = r["rest_pose_distance_error"]
+    assert rp["point_frames"] == 3 * 40 and rp["max_mm"] < 0.05 and rp["within_1mm_share"] == 1
     r = limb_contacts(b, motion, _cloth_off(b, motion, settings, blended[:40]), settings)
     assert r["point_frames_touching_a_limb"] >= 0.9 * 3 * 40   # (a few nearest the torso)
     assert r["touching_rigid_skin_share"] < 0.5
+    # through the blended transform of its nearest vertex the distance changes little for
+    # most points, by up to a centimetre where the bent elbow's inside folds (60° here)
+    rp = r["rest_pose_distance_error"]
+    assert rp["point_frames"] == r["point_frames_touching_a_limb"]
+    assert 0.0 < rp["p50_mm"] < 0.5 and rp["within_1mm_share"] > 0.8
+    assert rp["p50_mm"] <= rp["p90_mm"] <= rp["p99_mm"] <= rp["max_mm"] and rp["max_mm"] > 2.0

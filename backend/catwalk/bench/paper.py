@@ -148,37 +148,64 @@ def _walk_figures(w) -> dict:
 RIGID_TOL = 0.001
 #: m. A cloth point this near a limb's triangle (its nearest of the body's) touches that limb
 LIMB_REACH = 0.02
+#: m. Touching points this near are asked their distance through the rest pose
+REST_REACH = 0.01
 
 
 def limb_contacts(body, motion, w, settings) -> dict:
-    """How much of the walk's cloth touching a limb touches skin that moves rigidly with one
-    bone (what a distance field per limb segment in its bone's frame could answer exactly):
-    the share of the limbs' vertices within ``RIGID_TOL`` of their dominant bone's rigid
-    motion, the recorded point-frames within ``LIMB_REACH`` of a limb (by the independent
-    check's nearest triangle), and the share of those whose nearest triangle is rigid."""
+    """Where the walk's cloth touches the limbs, and what a distance field could answer
+    there (the next step for the collider's searches, docs/collide.md).
+
+    Per-bone fields: the share of the limbs' vertices within ``RIGID_TOL`` of their dominant
+    bone's rigid motion, the recorded point-frames within ``LIMB_REACH`` of a limb (by the
+    independent check's nearest triangle), and the share of those whose nearest triangle is
+    rigid. A field in the rest pose, moving with the skinning: for the touching point-frames
+    within ``REST_REACH``, the point carried back to the rest pose by the inverse of its
+    nearest vertex's blended transform, its distance to the rest body there against its
+    distance to the posed body (mm: p50, p90, p99, max; the share within 1 mm)."""
     import numpy as np
+    from scipy.spatial import cKDTree
 
     from catwalk.collide.collider import TORSO
-    from catwalk.motion.skinning import rigid_deviation
+    from catwalk.motion.skinning import blended_matrices, motion_matrices, rigid_deviation
     from catwalk.simulate.metrics import BodySurface
     from catwalk.simulate.walking import walk_body_frames
 
     verts, _, n_pre = walk_body_frames(body, motion, settings)
-    verts = verts[n_pre:]
+    verts = verts[n_pre:].astype(np.float64)
     dev = rigid_deviation(body, motion, verts)
-    limb_vertex = body.parts != TORSO
+    mats = motion_matrices(body, motion)
     rigid_tri = dev[body.faces].max(axis=1) < RIGID_TOL
     limb_tri = (body.parts[body.faces] != TORSO).all(axis=1)
     surface = BodySurface(body.faces, len(body.vertices))
+    rest = np.asarray(body.vertices, np.float64)
+    rest_tree = cKDTree(rest)
     near = on_rigid = 0
+    errors = []
     for f in range(len(w.positions)):
-        _, d, t, _ = surface.closest(verts[f], w.positions[f])
+        x = np.asarray(w.positions[f], np.float64)
+        tree = cKDTree(verts[f])
+        _, d, t, _ = surface.closest(verts[f], x, tree=tree)
         touching = (np.abs(d) < LIMB_REACH) & limb_tri[t]
         near += int(touching.sum())
         on_rigid += int((touching & rigid_tri[t]).sum())
-    return {"limb_vertices_rigid_share": round(float((dev[limb_vertex] < RIGID_TOL).mean()), 4),
+        ask = np.flatnonzero(touching & (np.abs(d) < REST_REACH))
+        if len(ask):
+            _, nv = tree.query(x[ask])
+            back = np.linalg.inv(blended_matrices(body, mats[f], nv))
+            xr = np.einsum("pij,pj->pi", back, np.c_[x[ask], np.ones(len(ask))])[:, :3]
+            errors.append(np.abs(surface.closest(rest, xr, tree=rest_tree)[1] - d[ask]))
+    e = 1e3 * np.concatenate(errors) if errors else np.zeros(0)
+    rest_pose = {"point_frames": int(len(e))}
+    if len(e):
+        rest_pose.update({f"p{q}_mm": round(float(np.percentile(e, q)), 3) for q in (50, 90, 99)})
+        rest_pose.update(max_mm=round(float(e.max()), 2),
+                         within_1mm_share=round(float((e < 1.0).mean()), 4))
+    return {"limb_vertices_rigid_share": round(float((dev[body.parts != TORSO] < RIGID_TOL)
+                                                     .mean()), 4),
             "point_frames_touching_a_limb": near,
-            "touching_rigid_skin_share": round(on_rigid / max(1, near), 4)}
+            "touching_rigid_skin_share": round(on_rigid / max(1, near), 4),
+            "rest_pose_distance_error": rest_pose}
 
 
 def reference_walk_settings(walking, steps_per_frame: int):

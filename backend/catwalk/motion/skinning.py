@@ -125,13 +125,24 @@ def skinning_matrices(skeleton: Skeleton, world: np.ndarray) -> np.ndarray:
     return world @ skeleton.inverse_bind
 
 
+def motion_matrices(body: Body, motion: Motion) -> np.ndarray:
+    """The skinning matrices (F, J, 4, 4) of ``motion``'s frames on ``body``'s rig."""
+    sk = body.skeleton
+    return skinning_matrices(sk, joint_world_matrices(sk, motion.rotations, motion.translations))
+
+
+def blended_matrices(body: Body, mats: np.ndarray, vertices: np.ndarray) -> np.ndarray:
+    """Each of ``vertices``' blended skinning transform (P, 4, 4), Σ wₖ·Mₖ over its joints,
+    at one frame's skinning matrices ``mats`` (J, 4, 4)."""
+    j = body.skin_joints[vertices].astype(np.int64)
+    return np.einsum("pk,pkij->pij", body.skin_weights[vertices].astype(np.float64), mats[j])
+
+
 def rigid_deviation(body: Body, motion: Motion, verts: np.ndarray) -> np.ndarray:
     """Per vertex, the farthest (m) its skinned position ``verts`` (F, N, 3) over ``motion``'s
     F frames strays from where its dominant joint's transform alone carries it (0: the vertex
     moves rigidly with one bone, as a distance field in that bone's frame would)."""
-    sk = body.skeleton
-    mats = skinning_matrices(sk, joint_world_matrices(sk, motion.rotations,
-                                                      motion.translations))
+    mats = motion_matrices(body, motion)
     dom = body.skin_joints[np.arange(len(body.vertices)), np.argmax(body.skin_weights, axis=1)]
     rest = np.c_[body.vertices, np.ones(len(body.vertices))]
     out = np.zeros(len(body.vertices))
@@ -156,8 +167,7 @@ def body_frames(body: Body, motion: Motion, *, cancel=None, progress=None,
     if motion.rotations.shape[1] != len(sk.names):
         raise InputError(f"motion has {motion.rotations.shape[1]} joints, the body's rig "
                            f"has {len(sk.names)}")
-    world = joint_world_matrices(sk, motion.rotations, motion.translations)
-    mats = skinning_matrices(sk, world)
+    mats = motion_matrices(body, motion)
     skinner = Skinner(body.vertices, body.skin_joints, body.skin_weights)
     parts = []
     for a in range(0, max(len(mats), 1), chunk):
