@@ -106,7 +106,7 @@ def test_skinner_reuses_its_buffer(neutral_body):
 
 
 def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(neutral_body):
-    from catwalk.motion.skinning import rigid_deviation
+    from catwalk.motion.skinning import motion_matrices, rigid_deviation
 
     b = neutral_body
     sk = b.skeleton
@@ -116,7 +116,7 @@ def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(
     root = int(np.flatnonzero(sk.parents < 0)[0])
     t[:, root, 2] += 0.05 * np.arange(f)   # walking forward: every bone alike
     m = Motion(fps=30.0, rotations=q.copy(), translations=t, loop=False)
-    assert rigid_deviation(b, m, body_frames(b, m)[0]).max() < 1e-5
+    assert rigid_deviation(b, motion_matrices(b, m), body_frames(b, m)[0]).max() < 1e-5
     # the left elbow bent 60° by the last frame: skin blended across it strays from either
     # bone, skin on one bone alone does not
     elbow = sk.names.index("lowerarm_l")
@@ -124,7 +124,7 @@ def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(
         bend = axis_angle(np.array([1.0, 0.0, 0.0]), np.radians(30.0 * k))
         q[k, elbow] = mat_to_quat(bend @ quat_to_mat(q[k, elbow]))
     m = Motion(fps=30.0, rotations=q, translations=t, loop=False)
-    dev = rigid_deviation(b, m, body_frames(b, m)[0])
+    dev = rigid_deviation(b, motion_matrices(b, m), body_frames(b, m)[0])
     one_bone = b.skin_weights.max(axis=1) > 0.999
     assert dev[one_bone].max() < 1e-4
     assert dev[~one_bone].max() > 0.005

@@ -8,9 +8,8 @@ import numpy as np
 from catwalk.bench.paper import limb_contacts
 from catwalk.body.types import Motion
 from catwalk.motion.quat import axis_angle, mat_to_quat, quat_to_mat
+from catwalk.motion.skinning import body_frames
 from catwalk.render.raster import vertex_normals
-from catwalk.simulate import preset
-from catwalk.simulate.walking import walk_body_frames
 
 
 def _elbow_bent(body, frames=3):
@@ -25,18 +24,16 @@ def _elbow_bent(body, frames=3):
     return Motion(fps=30.0, rotations=q, translations=t, loop=False)
 
 
-def _cloth_off(body, motion, settings, idx, off=0.005):
+def _cloth_off(body, motion, idx, off=0.005):
     """Points ``off`` outside the body's vertices ``idx`` at every frame of ``motion``."""
-    verts, _, n_pre = walk_body_frames(body, motion, settings)
     pos = [v[idx] + off * vertex_normals(v.astype(np.float64), body.faces)[idx]
-           for v in verts[n_pre:]]
+           for v in body_frames(body, motion)[0]]
     return SimpleNamespace(positions=np.array(pos, np.float32))
 
 
 def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dressable_body):
     b = dressable_body
     motion = _elbow_bent(b)
-    settings = preset("balanced")
     w = b.skin_weights.max(axis=1)
     joint = b.skin_joints[np.arange(len(w)), np.argmax(b.skin_weights, axis=1)]
     fore = b.skeleton.names.index("lowerarm_l")
@@ -52,15 +49,14 @@ def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dr
     across = ((joint == fore) & (second == upper)) | ((joint == upper) & (second == fore))
     blended = np.flatnonzero(across & (w < 0.7))
     assert len(blended) > 20 and alone.sum() > 20
-    r = limb_contacts(b, motion, _cloth_off(b, motion, settings, np.flatnonzero(alone)[:40]),
-                      settings)
+    r = limb_contacts(b, motion, _cloth_off(b, motion, np.flatnonzero(alone)[:40]))
     assert r["point_frames_touching_a_limb"] == 3 * 40
     assert r["touching_rigid_skin_share"] == 1.0
     assert 0.5 < r["limb_vertices_rigid_share"] < 1.0   # the elbow's blended skin strays
     # carried back to the rest pose by one bone's transform, a point keeps its distance
     rp = r["rest_pose_distance_error"]
     assert rp["point_frames"] == 3 * 40 and rp["max_mm"] < 0.05 and rp["within_1mm_share"] == 1
-    r = limb_contacts(b, motion, _cloth_off(b, motion, settings, blended[:40]), settings)
+    r = limb_contacts(b, motion, _cloth_off(b, motion, blended[:40]))
     assert r["point_frames_touching_a_limb"] >= 0.9 * 3 * 40   # (a few nearest the torso)
     assert r["touching_rigid_skin_share"] < 0.5
     # through the blended transform of its nearest vertex the distance changes little for

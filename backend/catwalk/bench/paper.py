@@ -115,7 +115,7 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
                                  w)}
     default = walking.collider
     if default in walks:
-        out[default]["limb_contacts"] = limb_contacts(body, motion, walks[default], walking)
+        out[default]["limb_contacts"] = limb_contacts(body, motion, walks[default])
     if default in walks and reference:
         out.update(_against_reference(body, motion, dressed, walking, walks[default],
                                       out[default], progress))
@@ -152,7 +152,7 @@ LIMB_REACH = 0.02
 REST_REACH = 0.01
 
 
-def limb_contacts(body, motion, w, settings) -> dict:
+def limb_contacts(body, motion, w) -> dict:
     """Where the walk's cloth touches the limbs, and what a distance field could answer
     there (the next step for the collider's searches, docs/collide.md).
 
@@ -166,17 +166,21 @@ def limb_contacts(body, motion, w, settings) -> dict:
     import numpy as np
     from scipy.spatial import cKDTree
 
-    from catwalk.collide.collider import TORSO
-    from catwalk.motion.skinning import blended_matrices, motion_matrices, rigid_deviation
+    from catwalk.body.types import PART_TORSO
+    from catwalk.motion.skinning import (
+        blended_matrices,
+        body_frames,
+        motion_matrices,
+        rigid_deviation,
+    )
     from catwalk.simulate.metrics import BodySurface
-    from catwalk.simulate.walking import walk_body_frames
 
-    verts, _, n_pre = walk_body_frames(body, motion, settings)
-    verts = verts[n_pre:].astype(np.float64)
-    dev = rigid_deviation(body, motion, verts)
+    # the recorded frames' body (the walk's own, less the blend into it)
+    verts = body_frames(body, motion)[0].astype(np.float64)
     mats = motion_matrices(body, motion)
+    dev = rigid_deviation(body, mats, verts)
     rigid_tri = dev[body.faces].max(axis=1) < RIGID_TOL
-    limb_tri = (body.parts[body.faces] != TORSO).all(axis=1)
+    limb_tri = (body.parts[body.faces] != PART_TORSO).all(axis=1)
     surface = BodySurface(body.faces, len(body.vertices))
     rest = np.asarray(body.vertices, np.float64)
     rest_tree = cKDTree(rest)
@@ -201,7 +205,7 @@ def limb_contacts(body, motion, w, settings) -> dict:
         rest_pose.update({f"p{q}_mm": round(float(np.percentile(e, q)), 3) for q in (50, 90, 99)})
         rest_pose.update(max_mm=round(float(e.max()), 2),
                          within_1mm_share=round(float((e < 1.0).mean()), 4))
-    return {"limb_vertices_rigid_share": round(float((dev[body.parts != TORSO] < RIGID_TOL)
+    return {"limb_vertices_rigid_share": round(float((dev[body.parts != PART_TORSO] < RIGID_TOL)
                                                      .mean()), 4),
             "point_frames_touching_a_limb": near,
             "touching_rigid_skin_share": round(on_rigid / max(1, near), 4),

@@ -27,7 +27,6 @@ itself with the dressing's result moved 0.1 mm — and errors within it are not 
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import json
 import time
@@ -39,7 +38,7 @@ from catwalk.simulate.fidelity import NUDGE
 REFERENCE_H = 0.01
 #: the collider's skips (:class:`~catwalk.collide.collider.Skips`), each switched off alone in
 #: a run of the default list
-SKIP_NAMES = tuple(f.name for f in dataclasses.fields(Skips))
+SKIP_NAMES = Skips.names()
 RESOLVES = {"5": {"min_collisions": 5, "max_move": 0.02},
             "10": {"min_collisions": 10, "max_move": 0.01},
             "20": {"min_collisions": 20, "max_move": 0.005, "max_collisions": 80}}

@@ -19,11 +19,12 @@ import queue
 import time
 import weakref
 from concurrent.futures import ThreadPoolExecutor, wait
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import NamedTuple
 
 import numpy as np
 
+from catwalk.body.types import PART_NAMES, PART_TORSO
 from catwalk.cloth.model import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
@@ -34,9 +35,7 @@ from catwalk.render.raster import incident_faces, vertex_normals, vertex_normals
 # CPU time of this thread: on a shared machine, wall time also counts other processes' turns
 cpu_time = time.thread_time
 
-N_PARTS = 5
-PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
-TORSO = 0   # the torso and head's part label; the others are the limbs
+N_PARTS = len(PART_NAMES)
 #: an empty mask of points: a pass's ``only`` when it looks at every point, the image pass's
 #: ``edge`` when it leaves none to object space
 NO_MASK = np.zeros(0, bool)
@@ -53,6 +52,11 @@ class Skips:
     far_points: bool = True        # points far from every part skip the narrow phase
     reuse_closest: bool = True     # closest triangle reused while a point barely moved
     clearance: bool = True         # a point known to be far skips work until it could touch
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """The skips' names (each switchable alone: ``Settings.skips_off``)."""
+        return tuple(f.name for f in fields(cls))
 
     @classmethod
     def off(cls) -> Skips:
@@ -257,7 +261,7 @@ class Collider:
     def _on_limb(self, tri: np.ndarray) -> np.ndarray:
         """(P,) bool: the points whose kept triangle ``tri`` (an object pass's ``cache_tri``,
         −1: none) is a limb's."""
-        return (tri >= 0) & (self.face_part[np.maximum(tri, 0)] != TORSO)
+        return (tri >= 0) & (self.face_part[np.maximum(tri, 0)] != PART_TORSO)
 
     def _mapped_faces(self) -> np.ndarray:
         """The faces of the parts in the depth maps (:attr:`map_parts`)."""

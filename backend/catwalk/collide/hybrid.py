@@ -5,11 +5,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from catwalk.collide.collider import NO_MASK, TORSO, Collider, Substep, moved_far
+from catwalk.body.types import (
+    PART_LEFT_ARM,
+    PART_LEFT_LEG,
+    PART_RIGHT_ARM,
+    PART_RIGHT_LEG,
+    PART_TORSO,
+)
+from catwalk.collide.collider import NO_MASK, Collider, Substep, moved_far
 from catwalk.collide.image_pass import ImagePass
 from catwalk.collide.object_pass import ObjectPass
 
-LIMBS = (1, 2, 3, 4)
+LIMBS = (PART_LEFT_ARM, PART_RIGHT_ARM, PART_LEFT_LEG, PART_RIGHT_LEG)
 
 
 class HybridCollider(Collider):
@@ -29,9 +36,9 @@ class HybridCollider(Collider):
     def __init__(self, body_faces, parts, *, edge_fallback=True, limb_fallback=True,
                  **options):
         super().__init__(body_faces, parts, **options)
-        self.edge_fallback = bool(edge_fallback and self._present[TORSO])
+        self.edge_fallback = bool(edge_fallback and self._present[PART_TORSO])
         self.limb_fallback = bool(self.edge_fallback and limb_fallback)
-        self._use_parts(in_maps=(TORSO,), in_tree=LIMBS, mapped_in_tree=self.edge_fallback)
+        self._use_parts(in_maps=(PART_TORSO,), in_tree=LIMBS, mapped_in_tree=self.edge_fallback)
         map_faces = self._mapped_faces()
         if len(map_faces):
             self._image_pass = ImagePass(self.faces, map_faces, self._map_size,
@@ -47,7 +54,7 @@ class HybridCollider(Collider):
 
     def _resolve(self, s: Substep, held) -> None:
         reach = None if self._object_pass is None else self._object_pass.reach(self, s.lo, s.hi)
-        use_edge = self.edge_fallback and reach is not None and bool(reach[TORSO])
+        use_edge = self.edge_fallback and reach is not None and bool(reach[PART_TORSO])
         flagged = False
         start = s.pos.copy() if s.final else None   # the frame kept: what the pushes moved
         if self._image_pass is not None:

@@ -14,8 +14,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-TORSO, LEFT_ARM, RIGHT_ARM, LEFT_LEG, RIGHT_LEG = range(5)
-PART_NAMES = ("torso", "left_arm", "right_arm", "left_leg", "right_leg")
+from catwalk.body.types import (
+    PART_LEFT_ARM,
+    PART_LEFT_LEG,
+    PART_RIGHT_ARM,
+    PART_RIGHT_LEG,
+    PART_TORSO,
+)
+
+TORSO, LEFT_ARM, RIGHT_ARM = PART_TORSO, PART_LEFT_ARM, PART_RIGHT_ARM
+LEFT_LEG, RIGHT_LEG = PART_LEFT_LEG, PART_RIGHT_LEG
 
 
 def _frame(axis):

@@ -138,11 +138,11 @@ def blended_matrices(body: Body, mats: np.ndarray, vertices: np.ndarray) -> np.n
     return np.einsum("pk,pkij->pij", body.skin_weights[vertices].astype(np.float64), mats[j])
 
 
-def rigid_deviation(body: Body, motion: Motion, verts: np.ndarray) -> np.ndarray:
-    """Per vertex, the farthest (m) its skinned position ``verts`` (F, N, 3) over ``motion``'s
-    F frames strays from where its dominant joint's transform alone carries it (0: the vertex
-    moves rigidly with one bone, as a distance field in that bone's frame would)."""
-    mats = motion_matrices(body, motion)
+def rigid_deviation(body: Body, mats: np.ndarray, verts: np.ndarray) -> np.ndarray:
+    """Per vertex, the farthest (m) its skinned position ``verts`` (F, N, 3) over F frames of
+    skinning matrices ``mats`` (F, J, 4, 4, :func:`motion_matrices`) strays from where its
+    dominant joint's transform alone carries it (0: the vertex moves rigidly with one bone,
+    as a distance field in that bone's frame would)."""
     dom = body.skin_joints[np.arange(len(body.vertices)), np.argmax(body.skin_weights, axis=1)]
     rest = np.c_[body.vertices, np.ones(len(body.vertices))]
     out = np.zeros(len(body.vertices))

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, replace
 
 from catwalk.cloth.solver import INTEGRATORS
 from catwalk.collide import MODES, Skips
@@ -21,7 +21,7 @@ def _in_range(name: str, value, lo, hi, span: str | None = None, *, whole: bool 
 
 def _check_skips_off(names) -> None:
     """Refuse ``skips_off`` unless it is a list of the collider's skips' names."""
-    known = [f.name for f in fields(Skips)]
+    known = Skips.names()
     if isinstance(names, str) or not isinstance(names, (tuple, list)) or \
             any(n not in known for n in names):
         raise InputError(f"setting skips_off must be a list of the collider's skips "
@@ -116,6 +116,7 @@ class Settings:
         if not isinstance(self.skips, bool):
             raise InputError(f"setting skips must be true or false, got {self.skips!r}")
         _check_skips_off(self.skips_off)
+        object.__setattr__(self, "skips_off", tuple(self.skips_off))   # (a JSON list given)
         _in_range("step_safety", self.step_safety, 0.05, 1.0, "0.05–1 (the share of the cloth's "
                   "stable time step its steps take; beyond 1 the explicit integration is "
                   "unstable and blows up)")
