@@ -86,7 +86,8 @@ def test_the_settings_reach_the_collider():
     one = preset("balanced").with_(skips_off=("clearance",)).collider_options()["skips"]
     assert not one.clearance and one.reuse_closest and one.far_points and one.still_torso
     with pytest.raises(InputError, match=r"skips_off must be a list of the collider's skips "
-                       r"\(unreached_parts, still_torso, far_points, reuse_closest, clearance\), "
+                       r"\(unreached_parts, still_torso, far_points, reuse_closest, clearance, "
+                       r"rest_field\), "
                        r"got \('sleep',\)"):
         preset("balanced").with_(skips_off=("sleep",))
 

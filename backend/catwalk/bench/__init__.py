@@ -41,7 +41,8 @@ def add_walk_seconds(parser, default: float = 2.0) -> None:
 def add_walk_settings(parser) -> None:
     """``--plane-band``, ``--min-collisions``, ``--max-move``: the walks' collision responses a
     frame and plane band (docs/tryon.md, "How many responses a frame"); ``--integrator``,
-    ``--xpbd-dt``, ``--xpbd-iterations``: the walks' cloth integrator (docs/cloth.md); read by
+    ``--xpbd-dt``, ``--xpbd-iterations``: the walks' cloth integrator (docs/cloth.md);
+    ``--skips-off``: collider skips switched off (``Settings.skips_off``); read by
     :func:`walk_settings`."""
     parser.add_argument("--plane-band", type=float, default=None, metavar="M",
                         help="the walks' plane band in metres (default: balanced's, 0)")
@@ -57,6 +58,10 @@ def add_walk_settings(parser) -> None:
                         help="with --integrator xpbd: its step in seconds (default 1/300)")
     parser.add_argument("--xpbd-iterations", type=int, default=None, metavar="N",
                         help="with --integrator xpbd: its sweeps a step (default 1)")
+    parser.add_argument("--skips-off", nargs="+", default=None, metavar="SKIP",
+                        help="the walks' collider skips switched off, by name "
+                        "(unreached_parts, still_torso, far_points, reuse_closest, clearance, "
+                        "rest_field; default: none)")
 
 
 def walk_settings(args) -> dict:
@@ -68,7 +73,9 @@ def walk_settings(args) -> dict:
                              ("min_collisions", args.min_collisions),
                              ("max_move", args.max_move),
                              ("integrator", args.integrator), ("xpbd_dt", args.xpbd_dt),
-                             ("xpbd_iterations", args.xpbd_iterations)) if v is not None}
+                             ("xpbd_iterations", args.xpbd_iterations),
+                             ("skips_off", args.skips_off and tuple(args.skips_off)))
+           if v is not None}
     preset("balanced").with_(**out)
     return out
 
