@@ -59,9 +59,9 @@ def add_walk_settings(parser) -> None:
     parser.add_argument("--xpbd-iterations", type=int, default=None, metavar="N",
                         help="with --integrator xpbd: its sweeps a step (default 1)")
     parser.add_argument("--skips-off", nargs="+", default=None, metavar="SKIP",
-                        help="the walks' collider skips switched off, by name "
-                        "(unreached_parts, still_torso, far_points, reuse_closest, clearance, "
-                        "rest_field; default: none)")
+                        help="the walks' collider skips switched off, by name (the "
+                        "collider's Skips: a wrong name is refused with the list; default: "
+                        "none)")
 
 
 def walk_settings(args) -> dict:

@@ -50,8 +50,8 @@ class RestField:
     rest: np.ndarray
 
     def kernel_args(self) -> tuple:
-        """The field as the object pass takes it (see :data:`catwalk.collide.kernels.ObjectField`
-        without the switch and the tolerance)."""
+        """The field as the object pass takes it: the last five of
+        :data:`catwalk.collide.kernels.ObjectField`."""
         return self.grid, self.origin, 1.0 / self.spacing, self.band, self.rest
 
     def distance(self, points: np.ndarray) -> np.ndarray:
