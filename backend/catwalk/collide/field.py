@@ -2,8 +2,9 @@
 the object pass keep a point's closest triangle after the point slid, without a search.
 
 The field (:class:`RestField`) samples the body's signed distance on a grid over the first
-pose the collider was given (the rest pose of a walk or a dressing), within a band round the
-surface (beyond it the grid holds + the band). In a later pose a point is carried back by
+pose the collider was given (the rest pose a walk starts from: only the walk's collider uses
+it, ``Settings.collider_options``), within a band round the surface (beyond it the grid
+holds + the band). In a later pose a point is carried back by
 its kept triangle's own frame (:func:`carry_back`: the triangle's edge, normal and their cross
 product, posed and in the first pose — the skin moves rigidly over one triangle) and the
 field is read there (:func:`field_distance`, trilinear). The field answers "how near is any
