@@ -329,8 +329,7 @@ def test_no_stray_files_from_a_probe(work, capsys):
     (["--integrator", "xpbd", "--xpbd-iterations", "0"],
      "setting xpbd_iterations must be a whole number within 1–100, got 0"),
     (["--skips-off", "sleep"], "skips_off must be a list of the collider's skips "
-     "(unreached_parts, still_torso, far_points, reuse_closest, clearance, rest_field), got "
-     "('sleep',)"),
+     "(unreached_parts, still_torso, far_points, reuse_closest, clearance), got ('sleep',)"),
     (["--seconds", "20"], "--seconds must be within 0.5–10")])
 def test_bench_paper_refuses_bad_walk_settings_before_any_work(work, capsys, args, message):
     refused(["bench", "paper", "--json", *args], capsys, work, message)

@@ -86,13 +86,12 @@ def test_the_settings_reach_the_collider():
     one = preset("balanced").with_(skips_off=("clearance",)).collider_options()["skips"]
     assert not one.clearance and one.reuse_closest and one.far_points and one.still_torso
     with pytest.raises(InputError, match=r"skips_off must be a list of the collider's skips "
-                       r"\(unreached_parts, still_torso, far_points, reuse_closest, clearance, "
-                       r"rest_field\), "
+                       r"\(unreached_parts, still_torso, far_points, reuse_closest, clearance\), "
                        r"got \('sleep',\)"):
         preset("balanced").with_(skips_off=("sleep",))
 
 
-def test_the_plane_band_and_the_rest_field_reach_the_walks_collider_only():
+def test_the_plane_band_reaches_the_walks_collider_only():
     from catwalk.simulate import preset
 
     s = preset("balanced").with_(plane_band=0.01)
@@ -101,10 +100,6 @@ def test_the_plane_band_and_the_rest_field_reach_the_walks_collider_only():
                             **s.collider_options(walking=True))
     dressing = make_collider("object", body.faces, body.parts, **s.collider_options())
     assert walking.plane_band == 0.01 and dressing.plane_band == 0.0
-    # the rest-pose field is the walk's too (a dressing's body stands in its first pose)
-    assert walking.skips.rest_field and not dressing.skips.rest_field
-    assert not preset("balanced").with_(skips_off=("rest_field",)).collider_options(
-        walking=True)["skips"].rest_field
     assert preset("balanced").plane_band == 0.0   # off by default (docs/tryon.md)
     for bad in (-0.001, 0.06, True):
         with pytest.raises(InputError, match="plane_band must be within 0–0.05 m"):

@@ -6,6 +6,7 @@ import numpy as np
 from catwalk.bench.pareto import format_table, pareto_front, reference_settings, surface_rms
 from catwalk.cloth.scenes import hanging_cloth
 from catwalk.cloth.solver import Solver
+from catwalk.collide import Skips
 from catwalk.simulate import preset
 
 
@@ -34,9 +35,10 @@ def test_each_skip_is_a_run_of_its_own():
     from catwalk.bench.pareto import default_runs
 
     runs = dict(default_runs(["balanced"]))
-    for name in ("unreached_parts", "still_torso", "far_points", "reuse_closest", "clearance"):
+    for name in Skips.names():
         ch = runs[f"balanced, skip {name} off"]
-        skips = preset("balanced").with_(skips_off=ch["skips_off"]).collider_options()["skips"]
+        skips = preset("balanced").with_(skips_off=ch["skips_off"]).collider_options(
+            walking=True)["skips"]
         assert [k for k, on in vars(skips).items() if not on] == [name]
     assert runs["balanced, skips off"] == {"preset": "balanced", "skips": False}
 

@@ -11,8 +11,8 @@ panel in image space against hybrid.
 
 ``walk``: settings the scene's walks take instead of ``balanced``'s (the command's
 ``--plane-band``, ``--min-collisions``, ``--max-move``: how many collision responses a frame
-and the plane band, docs/tryon.md "How many responses a frame"); the dressing and the 4 s
-try-on keep the preset's.
+and the plane band, docs/tryon.md "How many responses a frame"; ``--skips-off``: collider
+skips switched off); the dressing and the 4 s try-on keep the preset's.
 
 ``default`` and ``reference`` (issue 21's keys): the default collider's walk (the product's:
 the explicit integrator — the paper's Provot + ordered velocity correction — with 10–18
@@ -116,7 +116,6 @@ def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "
     default = walking.collider
     if default in walks:
         out[default]["limb_contacts"] = limb_contacts(body, motion, walks[default])
-    out["rest_field"] = rest_field_figures(body)
     if default in walks and reference:
         out.update(_against_reference(body, motion, dressed, walking, walks[default],
                                       out[default], progress))
@@ -151,40 +150,6 @@ RIGID_TOL = 0.001
 LIMB_REACH = 0.02
 #: m. Touching points this near are asked their distance through the rest pose
 REST_REACH = 0.01
-
-
-def rest_field_figures(body, n: int = 20000, seed: int = 0) -> dict:
-    """The body's rest-pose distance field (:mod:`catwalk.collide.field`): its cost (seconds
-    to build, MB) and its error against the independent check (``simulate.metrics``) at
-    ``n`` points from 5 mm inside to 12 mm outside the rest body (mm: p50, p99, max; and
-    the share where the field puts the surface more than 0.5 mm farther than it is — the
-    direction in which a kept triangle could be vouched for wrongly)."""
-    import numpy as np
-
-    from catwalk.collide.field import build_field
-    from catwalk.render.raster import vertex_normals
-    from catwalk.simulate.metrics import BodySurface
-
-    v, f = body.vertices, body.faces
-    t0 = time.perf_counter()
-    fld = build_field(v, f)
-    build_s = time.perf_counter() - t0
-    rng = np.random.default_rng(seed)
-    idx = rng.integers(0, len(v), n)
-    p = (v[idx] + vertex_normals(v, f)[idx] * rng.uniform(-0.005, 0.012, (n, 1))
-         + rng.normal(0.0, 0.002, (n, 3)))
-    _, exact, _, _ = BodySurface(f, len(v)).closest(v, p)
-    fd = fld.distance(p)
-    err = np.abs(fd - exact) * 1e3
-    over = (np.abs(fd) - np.abs(exact)) * 1e3
-    return {"build_s": round(build_s, 3), "grid": list(fld.grid.shape),
-            "grid_mb": round(fld.grid.nbytes / 1e6, 1), "spacing_m": fld.spacing,
-            "band_m": fld.band, "points": n,
-            "error_mm": {"p50": round(float(np.percentile(err, 50)), 3),
-                         "p99": round(float(np.percentile(err, 99)), 3),
-                         "max": round(float(err.max()), 3)},
-            "farther_than_0_5mm_share": round(float(np.mean(over > 0.5)), 4),
-            "farther_max_mm": round(float(over.max()), 3)}
 
 
 def limb_contacts(body, motion, w) -> dict:

@@ -21,7 +21,8 @@ over every pair of values of two axes (``--grid A B``):
 * ``long``: the default scene walked for ``--long-seconds``.
 
 ``--collider`` changes every cell's collider; ``--plane-band``, ``--min-collisions``,
-``--max-move`` every cell's walk (not its dressing), as in ``catwalk bench paper``.
+``--max-move``, ``--skips-off`` every cell's walk (not its dressing), as in ``catwalk bench
+paper``.
 
 Each cell reports: ``status`` (``ok``, ``exploded`` with the solver's message — a blow-up is
 always an error naming the step and the point, never NaN in a result — or ``refused`` with the

@@ -52,7 +52,6 @@ class Skips:
     far_points: bool = True        # points far from every part skip the narrow phase
     reuse_closest: bool = True     # closest triangle reused while a point barely moved
     clearance: bool = True         # a point known to be far skips work until it could touch
-    rest_field: bool = True        # a kept triangle vouched for by the rest-pose field (field.py)
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -63,7 +62,7 @@ class Skips:
     def off(cls) -> Skips:
         """Every shortcut off (the exhaustive reference)."""
         return cls(unreached_parts=False, still_torso=False, far_points=False,
-                   reuse_closest=False, clearance=False, rest_field=False)
+                   reuse_closest=False, clearance=False)
 
 
 @dataclass
@@ -144,12 +143,12 @@ def _checked_body(body_faces, parts) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _checked_options(thickness, search_radius, max_depth, edge_normal_z, friction, threads,
-                     map_size, plane_band, field_tol) -> tuple[int, int]:
+                     map_size, plane_band) -> tuple[int, int]:
     """Raise on a bad option; returns the map size (width, height)."""
     if not (np.isfinite(plane_band) and 0.0 <= plane_band <= MAX_PLANE_BAND):
         raise InputError(f"plane_band must be within 0–{MAX_PLANE_BAND} m, got {plane_band!r}")
     for name, val in (("thickness", thickness), ("search_radius", search_radius),
-                      ("max_depth", max_depth), ("field_tol", field_tol)):
+                      ("max_depth", max_depth)):
         if not (np.isfinite(val) and val > 0):
             raise InputError(f"{name} must be a positive length in metres, got {val!r}")
     if not (np.isfinite(edge_normal_z) and 0.0 <= edge_normal_z <= 1.0):
@@ -187,10 +186,10 @@ class Collider:
                  reuse_tol=0.002,
                  leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
                  map_region_pad=0.05, second_surface=True, skips: Skips | None = None,
-                 threads: int = 1, plane_band=0.0, field_tol=0.00025):
+                 threads: int = 1, plane_band=0.0):
         faces, parts = _checked_body(body_faces, parts)
         self._map_size = _checked_options(thickness, search_radius, max_depth, edge_normal_z,
-                                          friction, threads, map_size, plane_band, field_tol)
+                                          friction, threads, map_size, plane_band)
         self._map_margin = float(map_margin)
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.parts = parts.astype(np.int8)
@@ -205,9 +204,6 @@ class Collider:
         self.search_radius = float(search_radius)
         self.max_depth = float(max_depth)
         self.reuse_tol = float(reuse_tol)
-        # how near the rest-pose field must put the body to a kept triangle's distance to keep
-        # it (field.py; the rest_field skip)
-        self.field_tol = float(field_tol)
         self.still_tol = float(still_tol)
         self.min_normal_z = float(min_normal_z)
         self.edge_normal_z = float(edge_normal_z)

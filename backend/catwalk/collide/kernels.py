@@ -9,10 +9,8 @@ look-ups), 2 contacts, 3 closest-triangle results reused, 4 hierarchy nodes visi
 5 points skipped by the box tests, 6 points skipped by their clearance, 7 triangles tested
 (closest point computed), 8 points the maps left to object space, 9 held points within the
 thickness of a second part (:func:`_second_surface`), 10 of them pinched between two facing
-surfaces, 11 folds, 12 points looked at again (the frame kept), 13 kept triangles the
-rest-pose field vouched for (:mod:`catwalk.collide.field`). (Numba caches a kernel by its
-own file: a change to the inlined helpers of bvh.py or field.py needs a change here too, or
-the cached kernel keeps the old code.)
+surfaces. (Numba caches a kernel by its own file: a change to the inlined
+helpers of bvh.py needs a change here too, or the cached kernel keeps the old code.)
 """
 
 from __future__ import annotations
@@ -31,16 +29,15 @@ from catwalk.collide.bvh import (
     swept_box_d2,
     swept_lower,
 )
-from catwalk.collide.field import carry_back, field_distance
 from catwalk.render.raster import row_span
 
 (ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS,
- ST_EDGE, ST_SECOND, ST_PINCH, ST_FOLD, ST_RECHECK, ST_FIELD) = range(14)
-N_STATS = 14
+ ST_EDGE, ST_SECOND, ST_PINCH, ST_FOLD, ST_RECHECK) = range(13)
+N_STATS = 13
 EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
 STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clearance_skips",
               "triangles_tested", "edge_fallbacks", "second_surface", "pinched", "folds",
-              "rechecked", "field_kept")
+              "rechecked")
 
 # the object pass's inputs, grouped (numba takes named tuples of arrays and numbers; the pass
 # unpacks them, see :func:`object_pass`)
@@ -51,7 +48,6 @@ ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radiu
 ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
                           "pspeed pstamp last pclk csw crel cstamp ct2 cp2 cc2 left")
 Workspace = namedtuple("Workspace", "stack reach spd rec2 stats")
-ObjectField = namedtuple("ObjectField", "use tol limit grid origin inv_h band rest")
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -342,7 +338,7 @@ def body_motion(v0, v1, idx, ref):
 
 @numba.njit(cache=True, _nrt=False, nogil=True)
 def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth_hi, now, body,
-                cfg, field, pts, ws, start, stop):
+                cfg, pts, ws, start, stop):
     """Object-space collision of the cloth points ``start`` … ``stop`` − 1 against the active
     parts' hierarchies.
 
@@ -405,15 +401,6 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     position). ``prev``/``alpha_prev``: the previous positions and time, used for a point
     never seen. ``lf`` (R,3) int32: the vertices of each reference in ``tris``.
 
-    ``field`` (:data:`ObjectField`): the body's signed distance field in its first pose
-    (:mod:`catwalk.collide.field`; ``use`` False: none). A point that moved more than
-    ``reuse_tol`` relative to its kept triangle, within ``limit`` of it, keeps it when the
-    field, read where the triangle's frame carries the point back to the first pose, puts
-    the point on the same side of the body and the body no nearer than the triangle, less
-    ``tol``: nothing of the body is nearer by more than that, as far as the first pose knows
-    (the other parts are checked as for any kept triangle; :func:`_field_vouches`).
-    ``rest`` (N,3): the body's vertices in that pose.
-
     ``planes`` (P,8): for each held point its contact plane, written as it is found (the unit
     normal, the offset of the surface plus the thickness, the body's velocity, the friction
     coefficient; :func:`record_plane`); for each point looked at, not held but within
@@ -442,7 +429,6 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     (cache_tri, cache_p, cache_c, clear, clear_rel, rkey, rec, pspeed, pstamp, last, pclk, csw,
      crel, cstamp, ct2, cp2, cc2, left) = pts
     stack, reach, spd, rec2, stats = ws
-    use_field, field_tol, field_limit, fgrid, forigin, finv_h, fband, frest = field
     n_parts = roots.shape[0]
     fkey = frame << 32
     any_part = False
@@ -570,26 +556,10 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             qy_ = ay + v * (by - ay) + w * (cy - ay) - py
             qz_ = az + v * (bz - az) + w * (cz - az) - pz
             d2 = qx_ * qx_ + qy_ * qy_ + qz_ * qz_
-            # behind the triangle's face (the closest point ahead along its normal): inside
-            behind = ((by - ay) * (cz - az) - (bz - az) * (cy - ay)) * qx_ + \
-                ((bz - az) * (cx - ax) - (bx - ax) * (cz - az)) * qy_ + \
-                ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) * qz_ > 0.0
-            if not near and use_field and d2 < field_limit * field_limit:
-                # (a point farther away searches: its search gives it a clearance, which
-                # skips more work than a kept triangle's checks)
-                near = _field_vouches(px, py, pz, -math.sqrt(d2) if behind else math.sqrt(d2),
-                                      ax, ay, az, bx, by, bz, cx, cy, cz, frest, faces, t,
-                                      fgrid, forigin, finv_h, fband, field_tol)
-                if near:
-                    # the triangle stays, measured from here on
-                    stats[ST_FIELD] += 1
-                    cache_p[i, 0] = px
-                    cache_p[i, 1] = py
-                    cache_p[i, 2] = pz
-                    cache_c[i, 0] = gx
-                    cache_c[i, 1] = gy
-                    cache_c[i, 2] = gz
-            if near and d2 > reuse_tol * reuse_tol and behind:
+            if near and d2 > reuse_tol * reuse_tol and \
+                    ((by - ay) * (cz - az) - (bz - az) * (cy - ay)) * qx_ + \
+                    ((bz - az) * (cx - ax) - (bx - ax) * (cz - az)) * qy_ + \
+                    ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) * qz_ > 0.0:
                 # inside, deeper than reuse_tol: the push is long, and a neighbour's normal
                 # would send it elsewhere: search for the closest triangle itself
                 near = False
@@ -775,29 +745,6 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                                stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
                                stats):
                 _left_here(left, pos, i)
-
-
-@numba.njit(cache=True, _nrt=False, inline="always")
-def _field_vouches(px, py, pz, dt, ax, ay, az, bx, by, bz, cx, cy, cz, rest, faces, t, grid,
-                   origin, inv_h, band, tol):
-    """Whether the rest-pose field, read at p carried back by the kept triangle's frame,
-    puts p on the same side of the body as the triangle does and the body no nearer than
-    the triangle, less ``tol``: ``dt`` p's signed distance to the posed triangle (a, b, c),
-    ``t`` of ``faces`` (negative behind it)."""
-    ia = faces[t, 0]
-    ib = faces[t, 1]
-    ic = faces[t, 2]
-    rx, ry, rz, ok = carry_back(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz,
-                                rest[ia, 0], rest[ia, 1], rest[ia, 2], rest[ib, 0],
-                                rest[ib, 1], rest[ib, 2], rest[ic, 0], rest[ic, 1],
-                                rest[ic, 2])
-    if not ok:
-        return False
-    df = field_distance(grid, origin, inv_h, band, rx, ry, rz)
-    if (dt < 0.0) != (df < 0.0) and abs(dt - df) > tol:
-        return False   # the field puts the point on the other side
-    # nothing of the body nearer than the triangle, less tol
-    return abs(df) >= abs(dt) - tol
 
 
 @numba.njit(cache=True, _nrt=False)

@@ -11,10 +11,6 @@ import numpy as np
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
 from catwalk.collide.collider import N_PARTS, Substep, cpu_time
-from catwalk.collide.field import rest_field
-
-#: the object pass's field argument when no field is used
-_NO_FIELD = (np.zeros((2, 2, 2), np.float32), np.zeros(3), 1.0, 0.0, np.zeros((1, 3)))
 
 
 class PointState:
@@ -95,7 +91,6 @@ class ObjectPass:
         self._refit_done = np.zeros(N_PARTS, bool)
         self._reach_key = self._reach_box = self._reach = None
         self.tree = None  # built from the first frame's pose
-        self.field = None  # the body's distance field in the first pose (the rest_field skip)
 
     def new_frame(self, col, first: bool) -> None:
         """The body's frame changed (``col._frame`` the new one)."""
@@ -110,8 +105,6 @@ class ObjectPass:
             self._lv_start, self._lv = B.leaf_vertices(self.tree, col.faces)
             self._lf = np.ascontiguousarray(col.faces[self.tree.tris], dtype=np.int32)
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
-            if col.skips.rest_field and col.skips.reuse_closest:
-                self.field = rest_field(col._first_v, col.faces)
         # the frame's motion, for the clocks (packing, later, finds the same values)
         self._body_speed = K.body_motion(col.v0, col.v1, self._tree_vidx, self._ref)
 
@@ -230,17 +223,10 @@ class ObjectPass:
                                    col.skips.clearance, col.second_surface, col.plane_band,
                                    recheck))
         arrays = tuple(pts.arrays())
-        fld = self.field
-        # (read within band − 2 spacings of a kept triangle, the grid points round the point
-        # carried back all lie in the field's band)
-        field = tuple(K.ObjectField(fld is not None and not recheck, col.field_tol,
-                                    0.0 if fld is None else fld.band - 2 * fld.spacing,
-                                    *(_NO_FIELD if fld is None else fld.kernel_args())))
 
         def points(start, stop, stack, reach, spd, rec2, stats):
             K.object_pass(s.pos, s.vel, s.prev, held, col.planes, only, active, s.lo, s.hi,
-                          now, body, cfg, field, arrays, (stack, reach, spd, rec2, stats), start,
-                          stop)
+                          now, body, cfg, arrays, (stack, reach, spd, rec2, stats), start, stop)
 
         col._split(points, n, int(only.sum()) if len(only) else n)
         col.timings.object_queries += cpu_time() - t

@@ -135,12 +135,9 @@ class Settings:
     def collider_options(self, walking: bool = False) -> dict:
         """The keyword arguments of :func:`~catwalk.collide.make_collider` these settings
         fix (friction is the caller's: the fabric's, or none while sewing); ``walking``: the
-        walk's collider (with ``plane_band``, and the ``rest_field`` skip: a dressing's body
-        stands in the pose the field is built in, where it saves nothing measurable — the
-        paper's dress 0.47–0.49 s either way — and it would change the dressing's path)."""
-        off = set(self.skips_off) | (set() if walking else {"rest_field"})
+        walk's collider (with ``plane_band``)."""
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
-                "skips": Skips(**dict.fromkeys(off, False)) if self.skips
+                "skips": Skips(**dict.fromkeys(self.skips_off, False)) if self.skips
                 else Skips.off(), "threads": self.threads,
                 "plane_band": self.plane_band if walking else 0.0}
 
