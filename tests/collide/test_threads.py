@@ -91,6 +91,21 @@ def test_the_settings_reach_the_collider():
         preset("balanced").with_(skips_off=("sleep",))
 
 
+def test_the_bench_flag_switches_skips_off_in_the_walks():
+    import argparse
+
+    from catwalk.bench import add_walk_settings, walk_settings
+    from catwalk.simulate import preset
+
+    p = argparse.ArgumentParser()
+    add_walk_settings(p)
+    walk = walk_settings(p.parse_args(["--skips-off", "clearance", "far_points"]))
+    assert walk == {"skips_off": ("clearance", "far_points")}
+    skips = preset("balanced").with_(**walk).collider_options(walking=True)["skips"]
+    assert not skips.clearance and not skips.far_points and skips.reuse_closest
+    assert walk_settings(p.parse_args([])) == {}
+
+
 def test_the_plane_band_reaches_the_walks_collider_only():
     from catwalk.simulate import preset
 

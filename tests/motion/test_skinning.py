@@ -105,25 +105,17 @@ def test_skinner_reuses_its_buffer(neutral_body):
     assert np.abs(out - b.vertices).max() < 1e-5
 
 
-def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(neutral_body):
+def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(neutral_body,
+                                                                                 bent_elbow):
     from catwalk.motion.skinning import motion_matrices, rigid_deviation
 
     b = neutral_body
-    sk = b.skeleton
-    f = 3
-    q = np.repeat(mat_to_quat(sk.rest_local[:, :3, :3])[None], f, axis=0)
-    t = np.repeat(sk.rest_local[None, :, :3, 3], f, axis=0).copy()
-    root = int(np.flatnonzero(sk.parents < 0)[0])
-    t[:, root, 2] += 0.05 * np.arange(f)   # walking forward: every bone alike
-    m = Motion(fps=30.0, rotations=q.copy(), translations=t, loop=False)
+    # walking forward: every bone alike
+    m = bent_elbow(b, degrees=0.0, forward=0.05)
     assert rigid_deviation(b, motion_matrices(b, m), body_frames(b, m)[0]).max() < 1e-5
     # the left elbow bent 60° by the last frame: skin blended across it strays from either
     # bone, skin on one bone alone does not
-    elbow = sk.names.index("lowerarm_l")
-    for k in range(f):
-        bend = axis_angle(np.array([1.0, 0.0, 0.0]), np.radians(30.0 * k))
-        q[k, elbow] = mat_to_quat(bend @ quat_to_mat(q[k, elbow]))
-    m = Motion(fps=30.0, rotations=q, translations=t, loop=False)
+    m = bent_elbow(b, forward=0.05)
     dev = rigid_deviation(b, motion_matrices(b, m), body_frames(b, m)[0])
     one_bone = b.skin_weights.max(axis=1) > 0.999
     assert dev[one_bone].max() < 1e-4

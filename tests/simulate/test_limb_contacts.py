@@ -6,22 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from catwalk.bench.paper import limb_contacts
-from catwalk.body.types import Motion
-from catwalk.motion.quat import axis_angle, mat_to_quat, quat_to_mat
 from catwalk.motion.skinning import body_frames
 from catwalk.render.raster import vertex_normals
-
-
-def _elbow_bent(body, frames=3):
-    """The rest pose, the left elbow bending 30° a frame."""
-    sk = body.skeleton
-    q = np.repeat(mat_to_quat(sk.rest_local[:, :3, :3])[None], frames, axis=0)
-    t = np.repeat(sk.rest_local[None, :, :3, 3], frames, axis=0).copy()
-    elbow = sk.names.index("lowerarm_l")
-    for k in range(frames):
-        bend = axis_angle(np.array([1.0, 0.0, 0.0]), np.radians(30.0 * k))
-        q[k, elbow] = mat_to_quat(bend @ quat_to_mat(q[k, elbow]))
-    return Motion(fps=30.0, rotations=q, translations=t, loop=False)
 
 
 def _cloth_off(body, motion, idx, off=0.005):
@@ -31,9 +17,10 @@ def _cloth_off(body, motion, idx, off=0.005):
     return SimpleNamespace(positions=np.array(pos, np.float32))
 
 
-def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dressable_body):
+def test_cloth_on_one_bone_skin_is_on_rigid_skin_cloth_at_a_bent_elbow_is_not(dressable_body,
+                                                                             bent_elbow):
     b = dressable_body
-    motion = _elbow_bent(b)
+    motion = bent_elbow(b)
     w = b.skin_weights.max(axis=1)
     joint = b.skin_joints[np.arange(len(w)), np.argmax(b.skin_weights, axis=1)]
     fore = b.skeleton.names.index("lowerarm_l")

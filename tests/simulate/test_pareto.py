@@ -37,8 +37,7 @@ def test_each_skip_is_a_run_of_its_own():
     runs = dict(default_runs(["balanced"]))
     for name in Skips.names():
         ch = runs[f"balanced, skip {name} off"]
-        skips = preset("balanced").with_(skips_off=ch["skips_off"]).collider_options(
-            walking=True)["skips"]
+        skips = preset("balanced").with_(skips_off=ch["skips_off"]).collider_options()["skips"]
         assert [k for k, on in vars(skips).items() if not on] == [name]
     assert runs["balanced, skips off"] == {"preset": "balanced", "skips": False}
 

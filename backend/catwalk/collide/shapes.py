@@ -22,9 +22,6 @@ from catwalk.body.types import (
     PART_TORSO,
 )
 
-TORSO, LEFT_ARM, RIGHT_ARM = PART_TORSO, PART_LEFT_ARM, PART_RIGHT_ARM
-LEFT_LEG, RIGHT_LEG = PART_LEFT_LEG, PART_RIGHT_LEG
-
 
 def _frame(axis):
     """Two unit vectors orthogonal to ``axis`` (unit), right-handed (e1, e2, axis)."""
@@ -219,14 +216,14 @@ class Mannequin:
 
         # torso + head (part 0): elliptic torso, pelvis, neck, head
         add(capsule((0, 1.02, 0), (0, 1.33, 0), 0.15, 0.17, n_around=R(40), n_cap=R(8),
-                    n_body=R(10), squash=0.68, squash_dir=(0, 0, 1)), TORSO)
+                    n_body=R(10), squash=0.68, squash_dir=(0, 0, 1)), PART_TORSO)
         add(capsule((-0.06, 0.93, 0), (0.06, 0.93, 0), 0.11, n_around=R(28), n_cap=R(6),
-                    n_body=R(4)), TORSO)
+                    n_body=R(4)), PART_TORSO)
         add(capsule((0, 1.38, 0), (0, 1.52, 0), 0.055, n_around=R(20), n_cap=R(4),
-                    n_body=R(3)), TORSO)
+                    n_body=R(3)), PART_TORSO)
         add(capsule((0, 1.58, 0.01), (0, 1.64, 0.0), 0.095, n_around=R(32), n_cap=R(8),
-                    n_body=R(3)), TORSO)
-        for side, part in ((1.0, LEFT_ARM), (-1.0, RIGHT_ARM)):
+                    n_body=R(3)), PART_TORSO)
+        for side, part in ((1.0, PART_LEFT_ARM), (-1.0, PART_RIGHT_ARM)):
             pre = "l" if side > 0 else "r"
             swing = getattr(pose, f"{pre}_arm_swing")
             abduct = getattr(pose, f"{pre}_arm_abduct")
@@ -244,7 +241,7 @@ class Mannequin:
             add(capsule(el, wr, 0.04, 0.03, n_around=R(24), n_cap=R(5), n_body=R(8)), part)
             add(capsule(wr, hand, 0.03, 0.025, n_around=R(16), n_cap=R(4), n_body=R(3)),
                 part)
-        for side, part in ((1.0, LEFT_LEG), (-1.0, RIGHT_LEG)):
+        for side, part in ((1.0, PART_LEFT_LEG), (-1.0, PART_RIGHT_LEG)):
             pre = "l" if side > 0 else "r"
             swing = getattr(pose, f"{pre}_leg_swing")
             knee = getattr(pose, f"{pre}_knee")
