@@ -114,12 +114,20 @@ def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
     centre = v0[m.faces[arm]].reshape(-1, 3).mean(axis=0)
     w = vp.astype(np.float64)
     r = np.array([0.01, -0.02, 0.005])
+    nbl = np.zeros((h.n_nodes, B.NODE_COLUMNS))
+    vpl = np.zeros((len(vp), 3))
+    vidx = np.unique(m.faces[arm])
+    B.swept_boxes(nb, r, a, e, nbl)
     for _ in range(60):
         alpha = rng.random()
+        B.blend_at(vp, nb, a, e, vidx, alpha, nbl, vpl)
+        blended = (1 - alpha) * w[:, :3] + alpha * w[:, 3:]
+        np.testing.assert_allclose(vpl[vidx], blended[vidx], rtol=0, atol=1e-12)
         p = centre + rng.normal(0, 0.08, 3)
         d2, t, nodes, tested, frame_d2 = B.closest_triangle_t(
-            *p, vp, lf, alpha, *r, nb, h.links, h.tris, h.root[1], np.inf, -1, stack, 1.0, spd)
-        bd2, bt = _brute(p, (1 - alpha) * w[:, :3] + alpha * w[:, 3:], m.faces, arm)
+            *p, vpl, lf, alpha, *r, nbl, h.links, h.tris, h.root[1], np.inf, -1, stack, 1.0,
+            spd)
+        bd2, bt = _brute(p, blended, m.faces, arm)
         assert np.isclose(d2, bd2, rtol=1e-9, atol=1e-15) and t in set(arm)
         assert tested < len(arm) / 3
         for nd in rng.integers(a, e, 8):
@@ -129,9 +137,17 @@ def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
             want = np.sum(np.maximum(np.maximum(lo - p, p - hi), 0.0) ** 2)
             assert np.isclose(B._lerp_box_d2(*p, nb, nd, alpha, 1 - alpha), want,
                               rtol=1e-12, atol=1e-18)
+            # the blended box the search reads is the same box to the last bit
+            got = np.sum(np.maximum(np.maximum(nbl[nd, 0:3] - p, p - nbl[nd, 3:6]), 0.0) ** 2)
+            assert got == B._lerp_box_d2(*p, nb, nd, alpha, 1 - alpha)
+            # (its centre is summed in float32, as the node boxes are kept)
+            np.testing.assert_allclose(nbl[nd, 6:9], 0.5 * (lo + hi), rtol=0, atol=1e-6)
             c = p - alpha * r
             lo = np.minimum(b[0:3], b[6:9] - r)
             hi = np.maximum(b[3:6], b[9:12] - r)
             want = np.sum(np.maximum(np.maximum(lo - c, c - hi), 0.0) ** 2)
             assert np.isclose(B.swept_box_d2(*p, alpha, *r, nb, nd), want, rtol=1e-12,
                               atol=1e-18)
+            # and the search's copy of it, to the last bit
+            assert B._swept_d2(*(p - alpha * r), nbl, nd) == B.swept_box_d2(*p, alpha, *r, nb,
+                                                                             nd)

@@ -485,14 +485,70 @@ def swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd):
     return x * x + y * y + z * z
 
 
+#: the columns of the nodes' table the searches read (``nbl`` (K,16) float64): the box at the
+#: search's time (lo 0–2, hi 3–5) and its centre (6–8), by :func:`blend_at`; the box swept
+#: over the frame in the frame moving with the reference displacement (lo 9–11, hi 12–14)
+#: and the node's speed (15), by :func:`swept_boxes`
+NODE_COLUMNS = 16
+
+
 @numba.njit(cache=True, _nrt=False)
-def closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, root,
+def swept_boxes(nb, ref, first, last, nbl):
+    """Nodes [first, last) (one part) over the frame, once it is refitted: the boxes swept
+    over it in the frame moving by ``ref`` (:func:`swept_box_d2`'s, ``nbl[:, 9:15]``) and
+    the speeds (``nb[:, 12]`` → ``nbl[:, 15]``), for :func:`closest_triangle_t`."""
+    for nd in range(first, last):
+        for q in range(3):
+            nbl[nd, 9 + q] = min(nb[nd, q], nb[nd, 6 + q] - ref[q])
+            nbl[nd, 12 + q] = max(nb[nd, 3 + q], nb[nd, 9 + q] - ref[q])
+        nbl[nd, 15] = nb[nd, 12]
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _swept_d2(mx, my, mz, nbl, nd):
+    """:func:`swept_box_d2` from :func:`swept_boxes`' table, the point (mx, my, mz) already
+    in the moving frame (the same arithmetic: the same value to the last bit)."""
+    x = max(max(nbl[nd, 9] - mx, mx - nbl[nd, 12]), 0.0)
+    y = max(max(nbl[nd, 10] - my, my - nbl[nd, 13]), 0.0)
+    z = max(max(nbl[nd, 11] - mz, mz - nbl[nd, 14]), 0.0)
+    return x * x + y * y + z * z
+
+
+@numba.njit(cache=True, _nrt=False)
+def blend_at(vp, nb, first, last, vidx, alpha, nbl, vpl):
+    """One part's pose at time ``alpha`` of the frame, as :func:`closest_triangle_t` reads
+    it: its nodes [first, last) in ``nbl`` (:data:`NODE_COLUMNS`) — the box blended between
+    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`_lerp_box_d2`'s) and its centre (6–8,
+    by which the walk orders a node's children) — and its vertices ``vidx`` in ``vpl``
+    (N,3), blended between the two frames' positions in ``vp`` (N,6). Blended once for the
+    many searches at one time (the object pass's at one substep), each search then reads
+    fewer values a node and a vertex, with the same arithmetic: the same answers to the last
+    bit."""
+    b = 1.0 - alpha
+    for nd in range(first, last):
+        for q in range(3):
+            nbl[nd, q] = b * nb[nd, q] + alpha * nb[nd, 6 + q]
+            nbl[nd, 3 + q] = b * nb[nd, 3 + q] + alpha * nb[nd, 9 + q]
+            nbl[nd, 6 + q] = 0.5 * (b * (nb[nd, q] + nb[nd, 3 + q])
+                                    + alpha * (nb[nd, 6 + q] + nb[nd, 9 + q]))
+    for k in range(vidx.shape[0]):
+        v = vidx[k]
+        vpl[v, 0] = b * vp[v, 0] + alpha * vp[v, 3]
+        vpl[v, 1] = b * vp[v, 1] + alpha * vp[v, 4]
+        vpl[v, 2] = b * vp[v, 2] + alpha * vp[v, 5]
+
+
+@numba.njit(cache=True, _nrt=False)
+def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris, root,
                        best_d2, best_t, stack, inv_t, spd):
     """Closest triangle to p among one part's hierarchy at time ``alpha``, if nearer than
-    √best_d2, with the node boxes of two frames ``nb`` (K,12), blended at ``alpha`` (tighter
-    than the box swept over the frame: a fast limb is pruned where it is at that time).
-    ``vp`` (N,6) float32 positions at the two frames; ``lf`` (R,3) int32 the vertices of
-    each reference of ``tris`` (a leaf's are read in sequence, not through the faces).
+    √best_d2, with the part's pose at that time and its nodes' bounds over the frame
+    (``nbl`` (K,16), :data:`NODE_COLUMNS`: the node boxes blended at ``alpha`` — tighter than
+    the box swept over the frame: a fast limb is pruned where it is at that time — the
+    centres children are ordered by, the boxes swept over the frame and the nodes' speeds;
+    :func:`blend_at`, :func:`swept_boxes`) and ``vpl`` (N,3) the vertices at ``alpha``.
+    ``lf`` (R,3) int32 the vertices of each reference of ``tris`` (a leaf's are read in
+    sequence, not through the faces).
     Returns (best_d2, best_t, nodes
     visited, triangles tested, frame_d2): frame_d2 is a lower bound of the squared distance,
     for the whole frame and in the frame moving by the reference displacement (rx, ry, rz),
@@ -508,17 +564,23 @@ def closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, r
     visited = 0
     tested = 0
     frame_d2 = np.inf
-    b = 1.0 - alpha
+    # the point in the frame moving with the reference displacement (the swept boxes')
+    mx = px - alpha * rx
+    my = py - alpha * ry
+    mz = pz - alpha * rz
     while sp > 0:
         sp -= 1
         nd = stack[sp]
         visited += 1
-        d = _lerp_box_d2(px, py, pz, nb, nd, alpha, b)
+        x = max(max(nbl[nd, 0] - px, px - nbl[nd, 3]), 0.0)
+        y = max(max(nbl[nd, 1] - py, py - nbl[nd, 4]), 0.0)
+        z = max(max(nbl[nd, 2] - pz, pz - nbl[nd, 5]), 0.0)
+        d = x * x + y * y + z * z
         if d >= best_d2:
-            ds = swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, nd)
+            ds = _swept_d2(mx, my, mz, nbl, nd)
             if ds < frame_d2:
                 frame_d2 = ds
-            sv = nb[nd, 12] - math.sqrt(d) * inv_t
+            sv = nbl[nd, 15] - math.sqrt(d) * inv_t
             if sv > spd[0]:
                 spd[0] = sv
             continue
@@ -532,11 +594,9 @@ def closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, r
             cr = 0.0
             for q in range(3):
                 c = px if q == 0 else (py if q == 1 else pz)
-                e = 0.5 * (b * (nb[l, q] + nb[l, 3 + q])
-                           + alpha * (nb[l, 6 + q] + nb[l, 9 + q])) - c
+                e = nbl[l, 6 + q] - c
                 cl += e * e
-                e = 0.5 * (b * (nb[r, q] + nb[r, 3 + q])
-                           + alpha * (nb[r, 6 + q] + nb[r, 9 + q])) - c
+                e = nbl[r, 6 + q] - c
                 cr += e * e
             if cl < cr:
                 stack[sp] = r
@@ -546,24 +606,24 @@ def closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, r
                 stack[sp + 1] = r
             sp += 2
             continue
-        ds = swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, nd)
+        ds = _swept_d2(mx, my, mz, nbl, nd)
         if ds < frame_d2:
             frame_d2 = ds
-        if nb[nd, 12] > spd[1]:
-            spd[1] = nb[nd, 12]
+        if nbl[nd, 15] > spd[1]:
+            spd[1] = nbl[nd, 15]
         for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
             ia = lf[s, 0]
             ib = lf[s, 1]
             ic = lf[s, 2]
-            ax = b * vp[ia, 0] + alpha * vp[ia, 3]
-            ay = b * vp[ia, 1] + alpha * vp[ia, 4]
-            az = b * vp[ia, 2] + alpha * vp[ia, 5]
-            bx = b * vp[ib, 0] + alpha * vp[ib, 3]
-            by = b * vp[ib, 1] + alpha * vp[ib, 4]
-            bz = b * vp[ib, 2] + alpha * vp[ib, 5]
-            cx = b * vp[ic, 0] + alpha * vp[ic, 3]
-            cy = b * vp[ic, 1] + alpha * vp[ic, 4]
-            cz = b * vp[ic, 2] + alpha * vp[ic, 5]
+            ax = vpl[ia, 0]
+            ay = vpl[ia, 1]
+            az = vpl[ia, 2]
+            bx = vpl[ib, 0]
+            by = vpl[ib, 1]
+            bz = vpl[ib, 2]
+            cx = vpl[ic, 0]
+            cy = vpl[ic, 1]
+            cz = vpl[ic, 2]
             x = max(max(min(ax, min(bx, cx)) - px, px - max(ax, max(bx, cx))), 0.0)
             y = max(max(min(ay, min(by, cy)) - py, py - max(ay, max(by, cy))), 0.0)
             z = max(max(min(az, min(bz, cz)) - pz, pz - max(az, max(bz, cz))), 0.0)

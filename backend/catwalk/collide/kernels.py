@@ -42,7 +42,7 @@ STAT_NAMES = ("boxed", "narrow", "contacts", "reused", "nodes", "skipped", "clea
 # the object pass's inputs, grouped (numba takes named tuples of arrays and numbers; the pass
 # unpacks them, see :func:`object_pass`)
 ObjectTime = namedtuple("ObjectTime", "alpha alpha_prev frame ref clock body_speed")
-ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf")
+ObjectBody = namedtuple("ObjectBody", "vb vp faces face_part nb links tris roots lf nbl vpl")
 ObjectConfig = namedtuple("ObjectConfig", "thickness friction slack search_radius max_depth "
                           "skip_far use_cache reuse_tol use_clear second plane_band recheck")
 ObjectPoints = namedtuple("ObjectPoints", "cache_tri cache_p cache_c clear clear_rel rkey rec "
@@ -195,7 +195,7 @@ def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nb, links, root
 
 @numba.njit(cache=True, _nrt=False)
 def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx, ry, rz, vb,
-                    vp, lf, faces, nb, links, tris, roots, part_active, reach, thickness,
+                    vpl, lf, faces, nb, nbl, links, tris, roots, part_active, reach, thickness,
                     friction, radius, cert_reach, stack, inv_t, spd, rec2, csw, crel, cstamp,
                     frame, planes, stats):
     """A point held by part ``kt`` (signed distance ``s1`` along n1 after its response, the
@@ -237,7 +237,7 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
     for k2 in range(n_parts):
         if k2 == kt or not part_active[k2] or not reach[k2] or csw[i, k2] - crel[i] > radius:
             continue
-        d2o, tk, nv, nt, _ = closest_triangle_t(px, py, pz, vp, lf, alpha, rx, ry, rz, nb,
+        d2o, tk, nv, nt, _ = closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl,
                                                 links, tris, roots[k2], radius * radius, -1,
                                                 stack, inv_t, spd)
         stats[ST_NODES] += nv
@@ -346,7 +346,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     call's ``alpha_prev``, the ``frame`` number, the moving frame's travel ``ref`` over this
     frame, the collider's ``clock`` and the ``body_speed`` bound), ``body``
     (:data:`ObjectBody`: the packed body ``vb``/``vp``, ``faces``, ``face_part``, the
-    hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``), ``cfg``
+    hierarchies' node boxes ``nb``, ``links``, ``tris``, ``roots``, ``lf``, and the active
+    parts' pose at ``alpha``, ``nbl``/``vpl``: :func:`catwalk.collide.bvh.blend_at`), ``cfg``
     (:data:`ObjectConfig`: thickness, friction, contact slack, search radius, max depth, which
     skips are on, ``reuse_tol``, ``second``, ``plane_band``, ``recheck``), ``pts``
     (:data:`ObjectPoints`: what is kept per point between calls, below) and ``ws``
@@ -421,7 +422,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     points run at once on several threads (the GIL released), each with its own workspaces
     ``stack``, ``reach``, ``spd``, ``rec2`` and counters ``stats``."""
     alpha, alpha_prev, frame, ref, clock, body_speed = now
-    vb, vp, faces, face_part, nb, links, tris, roots, lf = body
+    vb, vp, faces, face_part, nb, links, tris, roots, lf, nbl, vpl = body
     (thickness, friction, slack, search_radius, max_depth, skip_far, use_cache, reuse_tol,
      use_clear, second, plane_band, recheck) = cfg
     # how far beyond the closest triangle the other parts' bounds are looked for
@@ -617,7 +618,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                         if nn > 1 and _lerp_box_d2(px, py, pz, nb, rt, alpha, b) >= d2:
                             continue
                         d2o, tk, nv, nt, _ = closest_triangle_t(
-                            px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, rt,
+                            px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris, rt,
                             d2 if nn > 1 else ro * ro, -1, stack, inv_t, spd)
                         stats[ST_NODES] += nv
                         stats[ST_TRIS] += nt
@@ -663,7 +664,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                     continue
                 boxed = True
                 best_d2, best_t, nv, nt, ld2 = closest_triangle_t(
-                    px, py, pz, vp, lf, alpha, rx, ry, rz, nb, links, tris, rt, best_d2,
+                    px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris, rt, best_d2,
                     best_t, stack, inv_t, spd)
                 lower = min(lower, ld2)
                 stats[ST_NODES] += nv
@@ -740,7 +741,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             _left_here(left, pos, i)
         if second:
             if _second_surface(pos, vel, i, face_part[best_t], s, nx, ny, nz, bvx, bvy, bvz,
-                               alpha, rx, ry, rz, vb, vp, lf, faces, nb, links, tris, roots,
+                               alpha, rx, ry, rz, vb, vpl, lf, faces, nb, nbl, links, tris, roots,
                                part_active, reach, thickness, friction, touch, cert_reach,
                                stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
                                stats):

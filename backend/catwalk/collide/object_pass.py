@@ -88,6 +88,13 @@ class ObjectPass:
         self._packed_frame = -1
         self._nb = None              # node boxes at the previous and the current frame
         self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
+        # the nodes' table the searches read (bvh.NODE_COLUMNS: the swept boxes once a frame,
+        # bvh.swept_boxes; the boxes at one time of the frame, bvh.blend_at), the vertices at
+        # that time, and the (frame, alpha) each part's are for
+        self._nbl = None
+        self._vpl = np.zeros((n_vertices, 3))
+        self._blend_frame = np.full(N_PARTS, -2)
+        self._blend_alpha = np.full(N_PARTS, np.nan)
         self._refit_done = np.zeros(N_PARTS, bool)
         self._reach_key = self._reach_box = self._reach = None
         self.tree = None  # built from the first frame's pose
@@ -105,6 +112,7 @@ class ObjectPass:
             self._lv_start, self._lv = B.leaf_vertices(self.tree, col.faces)
             self._lf = np.ascontiguousarray(col.faces[self.tree.tris], dtype=np.int32)
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
+            self._nbl = np.zeros((self.tree.n_nodes, B.NODE_COLUMNS))
         # the frame's motion, for the clocks (packing, later, finds the same values)
         self._body_speed = K.body_motion(col.v0, col.v1, self._tree_vidx, self._ref)
 
@@ -171,10 +179,22 @@ class ObjectPass:
                 B.refit_frame(self._vp, 0, self._lv_start, self._lv, h.links, nb, a, e)
             B.refit_frame(self._vp, 1, self._lv_start, self._lv, h.links, nb, a, e)
             B.node_speeds(self._vp, self._ref, self._lv_start, self._lv, h.links, nb, a, e)
+            B.swept_boxes(nb, self._ref, a, e, self._nbl)
             self._box_frame[p] = col._frame
             self._refit_done[p] = True
             col.timings.parts_refit += 1
         col.timings.refit += cpu_time() - t
+
+    def _blend(self, col, active, alpha: float) -> None:
+        """The ``active`` parts' pose at ``alpha`` (node boxes and vertices, bvh.blend_at),
+        once for all the searches at that time of the frame."""
+        for p in np.nonzero(active)[0]:
+            if self._blend_frame[p] == col._frame and self._blend_alpha[p] == alpha:
+                continue
+            B.blend_at(self._vp, self._nb, self.tree.root[p], self.tree.end[p],
+                       self._part_vidx[p], alpha, self._nbl, self._vpl)
+            self._blend_frame[p] = col._frame
+            self._blend_alpha[p] = alpha
 
     def run(self, col, s: Substep, held, active, pts: PointState | None, only,
             recheck: bool = False):
@@ -203,6 +223,9 @@ class ObjectPass:
             pts = PointState(n)
         pts.start(active, col._frame)
         self._pack(col)
+        t = cpu_time()
+        self._blend(col, active, s.alpha)
+        col.timings.object_queries += cpu_time() - t
         h = self.tree
         ck = self._clock
         ck[:3] = self._clock0[:3] + s.alpha * self._ref
@@ -215,7 +238,7 @@ class ObjectPass:
         now = tuple(K.ObjectTime(s.alpha, s.alpha_prev, col._frame, self._ref, ck,
                                  self._body_speed))
         body = tuple(K.ObjectBody(self._vb, self._vp, col.faces, col.face_part, self._nb,
-                                  h.links, h.tris, h.root, self._lf))
+                                  h.links, h.tris, h.root, self._lf, self._nbl, self._vpl))
         cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth,
                                    col.skips.far_points or bool(np.any(col._present & ~active)),
