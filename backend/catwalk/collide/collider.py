@@ -91,10 +91,15 @@ class Timings:
 RECHECK_MOVE = 0.0005
 
 
-def moved_far(pos: np.ndarray, start: np.ndarray) -> np.ndarray:
-    """(P,) bool: the points that moved more than :data:`RECHECK_MOVE` from ``start``."""
+def to_look_again(held: np.ndarray, pos: np.ndarray, start: np.ndarray,
+                  on_limb: np.ndarray) -> np.ndarray:
+    """(P,) bool: the points the frame kept looks at again — held ones that the object
+    passes pushed farther than :data:`RECHECK_MOVE` from ``start`` (one pushed out along a
+    triangle may have gone behind another of the same part where the skinned mesh folds),
+    or that a limb holds (``on_limb``: a kept triangle is not checked against its own
+    part's others)."""
     d = pos - start
-    return np.einsum("ij,ij->i", d, d) > RECHECK_MOVE * RECHECK_MOVE
+    return held & ((np.einsum("ij,ij->i", d, d) > RECHECK_MOVE * RECHECK_MOVE) | on_limb)
 
 
 class Substep(NamedTuple):

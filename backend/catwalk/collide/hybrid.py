@@ -12,7 +12,7 @@ from catwalk.body.types import (
     PART_RIGHT_LEG,
     PART_TORSO,
 )
-from catwalk.collide.collider import NO_MASK, Collider, Substep, moved_far
+from catwalk.collide.collider import NO_MASK, Collider, Substep, to_look_again
 from catwalk.collide.image_pass import ImagePass
 from catwalk.collide.object_pass import ObjectPass
 
@@ -136,7 +136,7 @@ class HybridCollider(Collider):
         op = self._object_pass
         if track:
             he, hl = self._held_edge, self._held_limbs
-            again = (he | hl) & (moved_far(s.pos, start) | self._near_limb)
+            again = to_look_again(he | hl, s.pos, start, self._near_limb)
             if again.any():
                 self._edge_pts = op.run(self, s, he, reach, self._edge_pts, again,
                                         recheck=True)

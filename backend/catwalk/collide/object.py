@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from catwalk.collide.collider import N_PARTS, NO_MASK, Collider, Substep, moved_far
+from catwalk.collide.collider import N_PARTS, NO_MASK, Collider, Substep, to_look_again
 from catwalk.collide.object_pass import ObjectPass
 
 
@@ -27,7 +27,7 @@ class ObjectCollider(Collider):
         if s.final and held.any():
             # the frame kept: the points pushed farther than RECHECK_MOVE, and those a limb
             # holds, once more, each searched afresh (as hybrid's HybridCollider._look_again)
-            again = held & (moved_far(s.pos, start) | self._on_limb(self._pts.cache_tri))
+            again = to_look_again(held, s.pos, start, self._on_limb(self._pts.cache_tri))
             if again.any():
                 self._pts = self._object_pass.run(self, s, held, reach & self.tree_parts,
                                                   self._pts, again, recheck=True)
