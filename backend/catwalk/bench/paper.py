@@ -406,7 +406,7 @@ def register(bench) -> None:
     p.add_argument("--modes", nargs="+", default=["image", "hybrid", "object"],
                    choices=["image", "hybrid", "object"], help="collider modes to walk")
     p.add_argument("--threads", type=int, default=2,
-                   help="also walk each mode with the collider's object and image passes "
+                   help="also walk each mode with the collider's object passes "
                    "on this many threads (default 2: ms_per_frame_2cores; 1: not)")
     p.add_argument("--no-reference", dest="reference", action="store_false",
                    help="skip the explicit reference walk (a response after every cloth step: "

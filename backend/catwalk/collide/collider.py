@@ -120,7 +120,7 @@ class Substep(NamedTuple):
 
 
 def _workspace(stats: np.ndarray | None = None) -> K.Workspace:
-    """A thread's scratch for the object and image passes (the kernels never allocate): the
+    """A thread's scratch for the object passes (the kernels never allocate): the
     hierarchy walk's stack, the part reach, two scratch arrays, and its counters (``stats``,
     or new ones)."""
     return K.Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
@@ -223,8 +223,9 @@ class Collider:
         self._image_pass = None    # image_pass.ImagePass: the depth maps, for the mapped parts
         self._object_pass = None   # object_pass.ObjectPass: the hierarchies, for hier_parts
         self._init_frames()
-        # with threads > 1 the object and image passes run over slices of the points at
-        # once, each thread with its own workspaces (kernels.object_pass, image_pass)
+        # with threads > 1 the object passes run over slices of the points at once, each
+        # thread with its own workspaces (kernels.object_pass; the image pass stays on the
+        # calling thread)
         self.threads = int(threads)
         self._pool = None
         self._thread_ws = [_workspace() for _ in range(self.threads - 1)]

@@ -796,7 +796,8 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     """Image-space collision of the cloth points ``start`` … ``stop`` − 1 against front/back
     depth maps at time ``alpha`` between the previous (slot ``s0``) and the current (slot
     ``s1``) frame's maps (a point's work writes only its own entries and ``stats``: disjoint
-    ranges run at once on several threads, each with its own ``stats``).
+    ranges could run at once on several threads, each with its own ``stats``; the collider
+    runs it on one, :class:`~catwalk.collide.image_pass.ImagePass`).
 
     ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). ``D``
     (H,W,2 slots,2 sides) float32 depth (side 0 front = nearest, 1 back = farthest;

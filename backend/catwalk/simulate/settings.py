@@ -51,7 +51,7 @@ class Settings:
     on, or all off (the reference of ``catwalk bench pareto``); with them on, ``skips_off``
     names those switched off one by one (``Skips``' fields: what each saves and costs is a
     row of ``catwalk bench pareto``), ``threads`` the threads the
-    collider's object and image passes split the cloth's points over (one try-on on a machine
+    collider's object passes split the cloth's points over (one try-on on a machine
     of its own: its cores; a worker among as many as the cores: 1).
     Dressing: ``sew_collisions`` / ``settle_collisions`` collider resolves per 1/30 s while
     sewing / settling (the body stands still: between two, contact planes hold the points it
