@@ -5,8 +5,10 @@ its largest dimension (spatial median, no search for the best split: body triang
 and evenly spread). A triangle spanning the plane goes into *both* halves; no triangle is split.
 The topology is built once from the rest pose; each frame only the bounds are refitted
 (:func:`refit_frame`): a node keeps its box at the previous and at the current frame, and the
-walk (:func:`closest_triangle_t`) blends them at the substep's time, which bounds the body at
-every substep in between.
+walk (:func:`closest_triangle_t`) reads their blend at the substep's time, which bounds the body
+at every substep in between — blended once a substep for all the walks of that substep, with the
+vertices, into one table of the nodes (:func:`blend_at`; the boxes swept over the frame and the
+nodes' speeds once a frame, :func:`swept_boxes`).
 
 All parts' hierarchies live in one set of flat arrays (:class:`Hierarchy`); nodes are in
 pre-order, so children come after parents and a refit walks a part's node range backwards.
