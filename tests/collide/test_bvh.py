@@ -92,8 +92,9 @@ def test_closest_on_triangle_regions():
 
 
 def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
-    """The walk the object pass uses (two frames' node boxes blended, a leaf's triangles read
-    through their leaf-order vertex references) and its branch-free box distances."""
+    """The walk the object pass uses (the nodes' table: two frames' node boxes blended, the
+    boxes swept over the frame; a leaf's triangles read through their leaf-order vertex
+    references) and its branch-free box distances."""
     m, fp = _body()
     arm = np.nonzero(fp == 1)[0]
     h = B.build(m.rest, m.faces, {1: arm})
@@ -135,19 +136,12 @@ def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
             lo = (1 - alpha) * b[0:3] + alpha * b[6:9]
             hi = (1 - alpha) * b[3:6] + alpha * b[9:12]
             want = np.sum(np.maximum(np.maximum(lo - p, p - hi), 0.0) ** 2)
-            assert np.isclose(B._lerp_box_d2(*p, nb, nd, alpha, 1 - alpha), want,
-                              rtol=1e-12, atol=1e-18)
-            # the blended box the search reads is the same box to the last bit
-            got = np.sum(np.maximum(np.maximum(nbl[nd, 0:3] - p, p - nbl[nd, 3:6]), 0.0) ** 2)
-            assert got == B._lerp_box_d2(*p, nb, nd, alpha, 1 - alpha)
-            # (its centre is summed in float32, as the node boxes are kept)
+            assert np.isclose(B._box_d2(*p, nbl, nd), want, rtol=1e-12, atol=1e-18)
+            # (the centre is summed in float32, as the node boxes are kept)
             np.testing.assert_allclose(nbl[nd, 6:9], 0.5 * (lo + hi), rtol=0, atol=1e-6)
             c = p - alpha * r
             lo = np.minimum(b[0:3], b[6:9] - r)
             hi = np.maximum(b[3:6], b[9:12] - r)
             want = np.sum(np.maximum(np.maximum(lo - c, c - hi), 0.0) ** 2)
-            assert np.isclose(B.swept_box_d2(*p, alpha, *r, nb, nd), want, rtol=1e-12,
-                              atol=1e-18)
-            # and the search's copy of it, to the last bit
-            assert B._swept_d2(*(p - alpha * r), nbl, nd) == B.swept_box_d2(*p, alpha, *r, nb,
-                                                                             nd)
+            assert np.isclose(B._swept_d2(*c, nbl, nd), want, rtol=1e-12, atol=1e-18)
+            assert nbl[nd, 15] == nb[nd, 12]

@@ -461,32 +461,6 @@ def refit_frame(vp, col, lv_start, lv, links, nb, first, last):
                 nb[nd, o + 3 + q] = max(nb[l, o + 3 + q], nb[r, o + 3 + q])
 
 
-@numba.njit(cache=True, _nrt=False, inline="always")
-def _lerp_box_d2(px, py, pz, nb, nd, a, b):
-    """Squared distance from p to node nd's box at time a (the blend of its two frames'
-    boxes, which holds every triangle of the node at that time). Branch-free (max/min
-    selects): the walks' box tests are otherwise bound by mispredicted branches."""
-    x = max(max(b * nb[nd, 0] + a * nb[nd, 6] - px, px - (b * nb[nd, 3] + a * nb[nd, 9])), 0.0)
-    y = max(max(b * nb[nd, 1] + a * nb[nd, 7] - py, py - (b * nb[nd, 4] + a * nb[nd, 10])), 0.0)
-    z = max(max(b * nb[nd, 2] + a * nb[nd, 8] - pz, pz - (b * nb[nd, 5] + a * nb[nd, 11])), 0.0)
-    return x * x + y * y + z * z
-
-
-@numba.njit(cache=True, _nrt=False, inline="always")
-def swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd):
-    """Squared distance, in a frame moving by ``a``·r (r the reference displacement over
-    the frame, p given at time a in world coordinates), from p to the box swept by node nd
-    over the whole frame in that moving frame: no triangle of the node comes nearer to the
-    point's moving-frame position at any time of the frame (branch-free)."""
-    c = px - a * rx
-    x = max(max(min(nb[nd, 0], nb[nd, 6] - rx) - c, c - max(nb[nd, 3], nb[nd, 9] - rx)), 0.0)
-    c = py - a * ry
-    y = max(max(min(nb[nd, 1], nb[nd, 7] - ry) - c, c - max(nb[nd, 4], nb[nd, 10] - ry)), 0.0)
-    c = pz - a * rz
-    z = max(max(min(nb[nd, 2], nb[nd, 8] - rz) - c, c - max(nb[nd, 5], nb[nd, 11] - rz)), 0.0)
-    return x * x + y * y + z * z
-
-
 #: the columns of the nodes' table the searches read (``nbl`` (K,16) float64): the box at the
 #: search's time (lo 0–2, hi 3–5) and its centre (6–8), by :func:`blend_at`; the box swept
 #: over the frame in the frame moving with the reference displacement (lo 9–11, hi 12–14)
@@ -497,8 +471,9 @@ NODE_COLUMNS = 16
 @numba.njit(cache=True, _nrt=False)
 def swept_boxes(nb, ref, first, last, nbl):
     """Nodes [first, last) (one part) over the frame, once it is refitted: the boxes swept
-    over it in the frame moving by ``ref`` (:func:`swept_box_d2`'s, ``nbl[:, 9:15]``) and
-    the speeds (``nb[:, 12]`` → ``nbl[:, 15]``), for :func:`closest_triangle_t`."""
+    over it in the frame moving by ``ref`` (``nbl[:, 9:15]``: no triangle of the node comes
+    nearer, at any time of the frame, to a point's position in that moving frame;
+    :func:`_swept_d2`) and the speeds (``nb[:, 12]`` → ``nbl[:, 15]``)."""
     for nd in range(first, last):
         for q in range(3):
             nbl[nd, 9 + q] = min(nb[nd, q], nb[nd, 6 + q] - ref[q])
@@ -507,9 +482,22 @@ def swept_boxes(nb, ref, first, last, nbl):
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
+def _box_d2(px, py, pz, nbl, nd):
+    """Squared distance from p to node nd's box at the table's time (:func:`blend_at`: the
+    blend of its two frames' boxes, which holds every triangle of the node at that time).
+    Branch-free (max/min selects): the walks' box tests are otherwise bound by mispredicted
+    branches."""
+    x = max(max(nbl[nd, 0] - px, px - nbl[nd, 3]), 0.0)
+    y = max(max(nbl[nd, 1] - py, py - nbl[nd, 4]), 0.0)
+    z = max(max(nbl[nd, 2] - pz, pz - nbl[nd, 5]), 0.0)
+    return x * x + y * y + z * z
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
 def _swept_d2(mx, my, mz, nbl, nd):
-    """:func:`swept_box_d2` from :func:`swept_boxes`' table, the point (mx, my, mz) already
-    in the moving frame (the same arithmetic: the same value to the last bit)."""
+    """Squared distance from the point (mx, my, mz), given in the frame moving with the
+    reference displacement (p − alpha·ref for p at time alpha), to node nd's box swept over
+    the frame (:func:`swept_boxes`; branch-free)."""
     x = max(max(nbl[nd, 9] - mx, mx - nbl[nd, 12]), 0.0)
     y = max(max(nbl[nd, 10] - my, my - nbl[nd, 13]), 0.0)
     z = max(max(nbl[nd, 11] - mz, mz - nbl[nd, 14]), 0.0)
@@ -520,12 +508,11 @@ def _swept_d2(mx, my, mz, nbl, nd):
 def blend_at(vp, nb, first, last, vidx, alpha, nbl, vpl):
     """One part's pose at time ``alpha`` of the frame, as :func:`closest_triangle_t` reads
     it: its nodes [first, last) in ``nbl`` (:data:`NODE_COLUMNS`) — the box blended between
-    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`_lerp_box_d2`'s) and its centre (6–8,
-    by which the walk orders a node's children) — and its vertices ``vidx`` in ``vpl``
-    (N,3), blended between the two frames' positions in ``vp`` (N,6). Blended once for the
-    many searches at one time (the object pass's at one substep), each search then reads
-    fewer values a node and a vertex, with the same arithmetic: the same answers to the last
-    bit."""
+    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`_box_d2`) and its centre (6–8, by which
+    the walk orders a node's children) — and its vertices ``vidx`` in ``vpl`` (N,3), blended
+    between the two frames' positions in ``vp`` (N,6). Blended once for the many searches
+    at one time (the object pass's at one substep) instead of inside every node visit and
+    triangle test."""
     b = 1.0 - alpha
     for nd in range(first, last):
         for q in range(3):
@@ -574,10 +561,7 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
         sp -= 1
         nd = stack[sp]
         visited += 1
-        x = max(max(nbl[nd, 0] - px, px - nbl[nd, 3]), 0.0)
-        y = max(max(nbl[nd, 1] - py, py - nbl[nd, 4]), 0.0)
-        z = max(max(nbl[nd, 2] - pz, pz - nbl[nd, 5]), 0.0)
-        d = x * x + y * y + z * z
+        d = _box_d2(px, py, pz, nbl, nd)
         if d >= best_d2:
             ds = _swept_d2(mx, my, mz, nbl, nd)
             if ds < frame_d2:
@@ -664,12 +648,12 @@ STACK_SIZE = 128
 
 
 @numba.njit(cache=True, _nrt=False)
-def swept_lower(px, py, pz, a, rx, ry, rz, nb, links, root, bound2, stack):
+def swept_lower(mx, my, mz, nbl, links, root, bound2, stack):
     """A lower bound, for the whole frame and in the frame moving by the reference
-    displacement (rx, ry, rz) (p given at time ``a`` in world coordinates, as
-    :func:`swept_box_d2`), of the squared distance from p to every triangle of one part's
-    hierarchy: the nearest leaf box swept over the frame, or ``bound2`` if none is nearer
-    (nodes are pruned there). No triangle is tested. Returns (bound, nodes visited)."""
+    displacement (the point (mx, my, mz) given in it, as :func:`_swept_d2`), of the squared
+    distance from the point to every triangle of one part's hierarchy: the nearest leaf box
+    swept over the frame (:func:`swept_boxes`), or ``bound2`` if none is nearer (nodes are
+    pruned there). No triangle is tested. Returns (bound, nodes visited)."""
     stack[0] = root
     sp = 1
     visited = 0
@@ -678,7 +662,7 @@ def swept_lower(px, py, pz, a, rx, ry, rz, nb, links, root, bound2, stack):
         sp -= 1
         nd = stack[sp]
         visited += 1
-        d = swept_box_d2(px, py, pz, a, rx, ry, rz, nb, nd)
+        d = _swept_d2(mx, my, mz, nbl, nd)
         if d >= best:
             continue
         if links[nd, 0] < 0:

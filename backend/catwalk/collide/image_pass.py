@@ -200,12 +200,10 @@ class ImagePass:
             self._pwin = np.zeros(n, np.int8)
             self._n = n
 
-        # on the calling thread whatever the collider's threads: a look-up is cheap, and
-        # handing slices of it to other threads cost more than it saved (collide.md, "Both
-        # cores")
+        # on the calling thread whatever the collider's threads (kernels.image_pass)
         K.image_pass(s.pos, s.vel, s.alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
                      self.lo, self.hi, col.thickness, col.friction, col.contact_slack,
                      col.plane_band, col.min_normal_z, col.skips.far_points, held, col.stats,
                      self._pkey, self._pdep, self._patt, col.planes, edge, col.edge_normal_z,
-                     self._pwin, 0, n)
+                     self._pwin)
         col.timings.image_queries += cpu_time() - t

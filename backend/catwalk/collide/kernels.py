@@ -23,10 +23,10 @@ import numpy as np
 
 from catwalk.cloth.kernels import contact_velocity
 from catwalk.collide.bvh import (
-    _lerp_box_d2,
+    _box_d2,
+    _swept_d2,
     closest_on_triangle,
     closest_triangle_t,
-    swept_box_d2,
     swept_lower,
 )
 from catwalk.render.raster import row_span
@@ -176,7 +176,7 @@ def _rec_velocity(rec, i, alpha, bv, bw):
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
-def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nb, links, roots,
+def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nbl, links, roots,
                        part_active, csw, crel, cstamp, frame, stack, stats):
     """``csw[i, k]``: how near each active part other than ``kt`` comes to point i over this
     frame (in the moving frame: its leaf boxes swept over the frame), looked for within
@@ -185,8 +185,8 @@ def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nb, links, root
     for k2 in range(roots.shape[0]):
         csw[i, k2] = np.inf
         if k2 != kt and part_active[k2]:
-            bo, nv = swept_lower(px, py, pz, alpha, rx, ry, rz, nb, links, roots[k2], ro * ro,
-                                 stack)
+            bo, nv = swept_lower(px - alpha * rx, py - alpha * ry, pz - alpha * rz, nbl, links,
+                                 roots[k2], ro * ro, stack)
             csw[i, k2] = math.sqrt(bo)
             stats[ST_NODES] += nv
     crel[i] = 0.0
@@ -195,7 +195,7 @@ def _other_part_bounds(i, kt, ro, px, py, pz, alpha, rx, ry, rz, nb, links, root
 
 @numba.njit(cache=True, _nrt=False)
 def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx, ry, rz, vb,
-                    vpl, lf, faces, nb, nbl, links, tris, roots, part_active, reach, thickness,
+                    vpl, lf, faces, nbl, links, tris, roots, part_active, reach, thickness,
                     friction, radius, cert_reach, stack, inv_t, spd, rec2, csw, crel, cstamp,
                     frame, planes, stats):
     """A point held by part ``kt`` (signed distance ``s1`` along n1 after its response, the
@@ -228,7 +228,7 @@ def _second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx
         # the bounds a reused closest triangle's check takes, looked for as far (one set
         # serves both for the rest of the frame)
         _other_part_bounds(i, kt, max(s1, 0.0) + cert_reach, px, py, pz, alpha, rx, ry, rz,
-                           nb, links, roots, part_active, csw, crel, cstamp, frame, stack,
+                           nbl, links, roots, part_active, csw, crel, cstamp, frame, stack,
                            stats)
     best = np.inf
     t2 = -1
@@ -356,8 +356,10 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     ``planes`` (P,8) are written for the points seen; ``part_active`` (parts,) bool and
     ``cloth_lo``/``cloth_hi`` (the cloth's box) select the parts looked at.
 
-    The hierarchies' node boxes ``nb`` (K,12) hold each node at the previous and the
-    current frame; at time ``alpha`` a node's box is their blend. Clearances are measured in
+    The hierarchies' node boxes ``nb`` (K,16) hold each node at the previous and the
+    current frame; at time ``alpha`` a node's box is their blend, which the pass reads from
+    the nodes' table ``nbl`` (blended once for the call, with the boxes swept over the frame
+    and the nodes' speeds: :func:`catwalk.collide.bvh.blend_at`). Clearances are measured in
     the frame that moves with the body's mean displacement (``ref`` over this frame), so
     that the body's and the cloth's common motion does not use them up.
 
@@ -571,7 +573,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 dt_ = math.sqrt(d2)
                 if cstamp[i] != frame:
                     _other_part_bounds(i, kt, dt_ + cert_reach, px, py, pz, alpha, rx, ry, rz,
-                                       nb, links, roots, part_active, csw, crel, cstamp, frame,
+                                       nbl, links, roots, part_active, csw, crel, cstamp, frame,
                                        stack, stats)
                 kn = -1
                 nn = 0
@@ -615,7 +617,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                         if k2 == kt or not part_active[k2] or csw[i, k2] - crel[i] > dt_:
                             continue
                         rt = roots[k2]
-                        if nn > 1 and _lerp_box_d2(px, py, pz, nb, rt, alpha, b) >= d2:
+                        if nn > 1 and _box_d2(px, py, pz, nbl, rt) >= d2:
                             continue
                         d2o, tk, nv, nt, _ = closest_triangle_t(
                             px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris, rt,
@@ -656,10 +658,11 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 if not part_active[k]:
                     continue
                 rt = roots[k]
-                dr = _lerp_box_d2(px, py, pz, nb, rt, alpha, b)
+                dr = _box_d2(px, py, pz, nbl, rt)
                 if not reach[k] or (skip_far and dr >= best_d2):
-                    lower = min(lower, swept_box_d2(px, py, pz, alpha, rx, ry, rz, nb, rt))
-                    spd[0] = max(spd[0], nb[rt, 12] - math.sqrt(dr) * inv_t)
+                    lower = min(lower, _swept_d2(px - alpha * rx, py - alpha * ry,
+                                                 pz - alpha * rz, nbl, rt))
+                    spd[0] = max(spd[0], nbl[rt, 15] - math.sqrt(dr) * inv_t)
                     now = min(now, dr)
                     continue
                 boxed = True
@@ -741,7 +744,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             _left_here(left, pos, i)
         if second:
             if _second_surface(pos, vel, i, face_part[best_t], s, nx, ny, nz, bvx, bvy, bvz,
-                               alpha, rx, ry, rz, vb, vpl, lf, faces, nb, nbl, links, tris, roots,
+                               alpha, rx, ry, rz, vb, vpl, lf, faces, nbl, links, tris, roots,
                                part_active, reach, thickness, friction, touch, cert_reach,
                                stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
                                stats):
@@ -792,12 +795,12 @@ def _window_covered(D, i0, j0, s0, s1, h, w):
 @numba.njit(cache=True, _nrt=False, nogil=True)
 def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickness, friction,
                slack, plane_band, min_nz, skip_far, held, stats, pkey, pdep, patt, planes, edge,
-               edge_nz, pwin, start, stop):
-    """Image-space collision of the cloth points ``start`` … ``stop`` − 1 against front/back
-    depth maps at time ``alpha`` between the previous (slot ``s0``) and the current (slot
-    ``s1``) frame's maps (a point's work writes only its own entries and ``stats``: disjoint
-    ranges could run at once on several threads, each with its own ``stats``; the collider
-    runs it on one, :class:`~catwalk.collide.image_pass.ImagePass`).
+               edge_nz, pwin):
+    """Image-space collision of the cloth points against front/back depth maps at time
+    ``alpha`` between the previous (slot ``s0``) and the current (slot ``s1``) frame's maps,
+    on one thread (a point's work writes only its own entries, but a look-up is cheap:
+    handing slices of it to other threads cost more than it saved, docs/collide.md "Both
+    cores").
 
     ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). ``D``
     (H,W,2 slots,2 sides) float32 depth (side 0 front = nearest, 1 back = farthest;
@@ -844,7 +847,7 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     n_contact = 0
     n_edge = 0
     use_edge = edge.shape[0] > 0
-    for i in range(start, stop):
+    for i in range(pos.shape[0]):
         if use_edge and edge[i]:
             n_edge += 1  # marked by the caller: left to object space
             continue
