@@ -1,0 +1,68 @@
+"""Wall-clock time of each collider pass in `catwalk bench paper`'s hybrid walk (the paper's
+dress, 2 s), walked with each of the given thread counts in turn, alternating:
+
+    .venv/bin/python tools/profile/passes.py [--threads 1 2] [--repeat 2]
+
+Prints, per walk, each pass's ms a frame, calls a frame and points a call: the edge fallback
+and the again pass (``all``: every part), the limbs' pass (``limbs``), the frame kept's look
+again (``recheck-all``) and the image pass (``image``), and the walk's own ms_per_frame split.
+docs/collide.md "Both cores" quotes it. A development tool: it wraps the passes' ``run``
+methods to time them; the product does not import it."""
+
+import argparse
+import collections
+import time
+
+from catwalk.bench.paper import choose_h, paper_inputs
+from catwalk.collide import image_pass as IP
+from catwalk.collide import object_pass as OP
+from catwalk.simulate import dress, preset
+from catwalk.simulate.walking import walk
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--threads", type=int, nargs="+", default=[1, 2])
+    ap.add_argument("--repeat", type=int, default=2)
+    args = ap.parse_args()
+    garment, body, motion = paper_inputs(2.0)
+    h, _ = choose_h(garment, body, "M")
+    settings = preset("balanced").with_(h=h)
+    dressed = dress(body, garment, "M", settings=settings)
+    acc = collections.defaultdict(lambda: [0, 0.0, 0])
+    o_run, i_run = OP.ObjectPass.run, IP.ImagePass.run
+
+    def orun(self, col, s, held, active, pts, only, recheck=False):
+        key = ("recheck-" if recheck else "") + ("all" if active[0] else "limbs")
+        t = time.perf_counter()
+        r = o_run(self, col, s, held, active, pts, only, recheck)
+        a = acc[key]
+        a[0] += 1
+        a[1] += time.perf_counter() - t
+        a[2] += int(only.sum()) if len(only) else len(s.pos)
+        return r
+
+    def irun(self, col, s, *rest):
+        t = time.perf_counter()
+        r = i_run(self, col, s, *rest)
+        a = acc["image"]
+        a[0] += 1
+        a[1] += time.perf_counter() - t
+        a[2] += len(s.pos)
+        return r
+
+    OP.ObjectPass.run, IP.ImagePass.run = orun, irun
+    walk(body, motion, dressed, settings.with_(collider="hybrid"))   # compiled, warm
+    n = motion.frames
+    for _ in range(args.repeat):
+        for threads in args.threads:
+            acc.clear()
+            w = walk(body, motion, dressed, settings.with_(collider="hybrid", threads=threads))
+            parts = "; ".join(f"{k} {v[1] / n * 1e3:.2f} ms, {v[0] / n:.1f} calls, "
+                              f"{v[2] / max(v[0], 1):.0f} points a call"
+                              for k, v in sorted(acc.items()))
+            print(f"threads {threads}: {parts} | ms_per_frame {w.stats['ms_per_frame']}")
+
+
+if __name__ == "__main__":
+    main()
