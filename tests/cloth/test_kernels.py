@@ -165,3 +165,32 @@ def test_seam_damping_is_implicit_pair_by_pair_and_keeps_momentum():
     a, b = 0, 1
     f = 1e-9 * (V0[:, b] - V0[:, a])
     assert np.allclose(V[:, a] - V0[:, a], 1e-6 * w[a] * f, rtol=1e-6)
+
+
+def test_planes_set_takes_the_points_with_a_plane_in_point_order():
+    rng = np.random.default_rng(5)
+    planes = np.zeros((50, 8))
+    have = rng.random(50) < 0.4
+    nrm = rng.normal(size=(50, 3))
+    planes[have, :3] = nrm[have] / np.linalg.norm(nrm[have], axis=1)[:, None]
+    planes[have, 3:] = rng.normal(size=(int(have.sum()), 5))
+    idx = np.full(50, -1, dtype=np.int64)
+    rows = np.zeros((50, 8))
+    m = K.planes_set(planes, idx, rows)
+    assert m == have.sum()
+    assert np.array_equal(idx[:m], np.flatnonzero(have))
+    assert np.array_equal(rows[:m], planes[have])
+
+
+def test_cap_speed_slows_only_the_points_above_it_to_it():
+    rng = np.random.default_rng(6)
+    v = rng.normal(0.0, 8.0, (200, 3))
+    before = v.copy()
+    speed = np.linalg.norm(before, axis=1)
+    fast = speed > 10.0
+    assert 0 < fast.sum() < 200
+    assert K.cap_speed(v, 10.0) == fast.sum()
+    assert np.array_equal(v[~fast], before[~fast])
+    assert np.allclose(np.linalg.norm(v[fast], axis=1), 10.0, rtol=1e-12)
+    assert np.allclose(v[fast] / np.linalg.norm(v[fast], axis=1)[:, None],
+                       before[fast] / speed[fast, None], rtol=1e-12)

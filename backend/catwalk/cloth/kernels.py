@@ -631,6 +631,39 @@ def apply_planes(X, V, idx, planes, t):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def planes_set(planes, idx, rows):
+    """The points with a contact plane (a unit normal in ``planes[i, :3]``; a zero normal:
+    none): their indices into ``idx`` and their planes into ``rows`` (both at least (P,)
+    long), in point order; returns how many (what :func:`apply_planes` takes)."""
+    m = 0
+    for i in range(planes.shape[0]):
+        if planes[i, 0] * planes[i, 0] + planes[i, 1] * planes[i, 1] + \
+                planes[i, 2] * planes[i, 2] > 0.5:
+            idx[m] = i
+            for c in range(planes.shape[1]):
+                rows[m, c] = planes[i, c]
+            m += 1
+    return m
+
+
+@numba.njit(cache=True, error_model="numpy")
+def cap_speed(v, vmax):
+    """No point faster than ``vmax``: a faster one's velocity (``v`` (P, 3)) is scaled down
+    to that speed, in place; returns how many were."""
+    n = 0
+    v2max = vmax * vmax
+    for i in range(v.shape[0]):
+        s2 = v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1] + v[i, 2] * v[i, 2]
+        if s2 > v2max:
+            f = vmax / np.sqrt(s2)
+            v[i, 0] *= f
+            v[i, 1] *= f
+            v[i, 2] *= f
+            n += 1
+    return n
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _first_nonfinite(X):
     """Index of the first point with a non-finite coordinate, or −1."""
     n = X.shape[1]

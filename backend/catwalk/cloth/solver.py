@@ -187,6 +187,8 @@ class Solver:
         self._dirty = np.zeros(n, dtype=np.uint8)
         self._xprev = np.zeros((n, 3))
         self._bad = np.zeros(2, dtype=np.int64)
+        self._plane_idx = np.zeros(n, dtype=np.int64)   # the points with a plane (_planes)
+        self._plane_rows = np.zeros((n, PLANE_COLUMNS))
         # springs in runs of consecutive end points (the vectorised force loop)
         self._runs, self._n_runs_lim = K.model_runs(model.spring_a, model.spring_b,
                                                     model.n_limited)
@@ -366,10 +368,14 @@ class Solver:
     def _planes(self, state):
         """The state's contact planes as (point indices, (m, 8) planes, time since set)."""
         p = state.planes
-        if p is None or p.shape != (state.positions.shape[0], PLANE_COLUMNS):
+        n = state.positions.shape[0]
+        if p is None or p.shape != (n, PLANE_COLUMNS):
             return _NO_PLANE_IDX, _NO_PLANES, 0.0
-        idx = np.flatnonzero(p[:, 0] * p[:, 0] + p[:, 1] * p[:, 1] + p[:, 2] * p[:, 2] > 0.5)
-        return idx.astype(np.int64), np.ascontiguousarray(p[idx]), state.time - state.plane_time
+        if self._plane_idx.shape[0] != n:
+            self._plane_idx = np.zeros(n, dtype=np.int64)
+            self._plane_rows = np.zeros((n, PLANE_COLUMNS))
+        m = K.planes_set(p, self._plane_idx, self._plane_rows)
+        return self._plane_idx[:m], self._plane_rows[:m], state.time - state.plane_time
 
     def _check(self, state, status, h, nsteps):
         if status != K.STATUS_OK:

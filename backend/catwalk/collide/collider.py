@@ -415,15 +415,16 @@ class Collider:
         set ``held`` and :attr:`planes` for the points in contact."""
         raise NotImplementedError
 
-    def _split(self, points, n, seen: int | None = None):
+    def _split(self, points, n, only=NO_MASK):
         """``points(start, stop, stack, reach, spd, rec2, stats)`` over all ``n`` points (of
-        which ``seen`` are looked at, default all): at once on one thread (also when ``seen``
-        is too few to share), or over slices on ``threads`` threads — 4 slices a thread, taken
-        as threads come free (the cost per point varies along the garment), the calling
-        thread one of them with the collider's own workspaces, each other with its own (its
-        counters added to :attr:`stats` after)."""
+        which those marked in ``only`` are looked at, all when it is empty): at once on one
+        thread (also when those are too few to share), or over slices on ``threads`` threads —
+        4 slices a thread, taken as threads come free (the cost per point varies along the
+        garment), the calling thread one of them with the collider's own workspaces, each
+        other with its own (its counters added to :attr:`stats` after)."""
         own = self._ws
-        if self.threads == 1 or (n if seen is None else seen) < 64 * self.threads:
+        if self.threads == 1 or (
+                int(np.count_nonzero(only)) if len(only) else n) < 64 * self.threads:
             points(0, n, *own)
             return
         if self._pool is None:

@@ -39,23 +39,23 @@ class PointState:
         self.cc2 = np.zeros((n, 3))
         self.active_last = np.zeros(N_PARTS, bool)
         self.clear_frame = -1
-
-    def arrays(self):
-        """The per-point arrays as the object pass takes them."""
-        return K.ObjectPoints(self.cache_tri, self.cache_p, self.cache_c, self.clear,
-                              self.clear_rel, self.rkey, self.rec, self.pspeed, self.pstamp,
-                              self.last, self.pclk, self.csw, self.crel, self.cstamp, self.ct2,
-                              self.cp2, self.cc2, self.left)
+        # the per-point arrays as the object pass takes them (a plain tuple, as its other
+        # groups: see ObjectPass.run)
+        self.arrays = tuple(K.ObjectPoints(
+            self.cache_tri, self.cache_p, self.cache_c, self.clear, self.clear_rel, self.rkey,
+            self.rec, self.pspeed, self.pstamp, self.last, self.pclk, self.csw, self.crel,
+            self.cstamp, self.ct2, self.cp2, self.cc2, self.left))
 
     def start(self, active, frame: int) -> None:
         """Before a pass over the ``active`` parts in ``frame``: the clearances that no longer
         hold dropped."""
-        if np.any(active & ~self.active_last):
+        came = bool((active & ~self.active_last).any())
+        if came:
             # a part came into play: no clearance bounds it
             self.clear_rel[:] = 0.0
             self.cstamp[:] = -1
             self.ct2[:] = -1
-        if self.clear_frame != frame or np.any(active & ~self.active_last):
+        if self.clear_frame != frame or came:
             # clearances hold against this frame's swept boxes of the parts then in play
             self.clear[:] = 0.0
             self.clear_frame = frame
@@ -98,6 +98,7 @@ class ObjectPass:
         self._refit_done = np.zeros(N_PARTS, bool)
         self._reach_key = self._reach_box = self._reach = None
         self.tree = None  # built from the first frame's pose
+        self._body = None  # the kernel's body group (its arrays change in place)
 
     def new_frame(self, col, first: bool) -> None:
         """The body's frame changed (``col._frame`` the new one)."""
@@ -113,6 +114,10 @@ class ObjectPass:
             self._lf = np.ascontiguousarray(col.faces[self.tree.tris], dtype=np.int32)
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
             self._nbl = np.zeros((self.tree.n_nodes, B.NODE_COLUMNS))
+            h = self.tree
+            self._body = tuple(K.ObjectBody(self._vb, self._vp, col.faces, col.face_part,
+                                            self._nb, h.links, h.tris, h.root, self._lf,
+                                            self._nbl, self._vpl))
         # the frame's motion, for the clocks (packing, later, finds the same values)
         self._body_speed = K.body_motion(col.v0, col.v1, self._tree_vidx, self._ref)
 
@@ -226,7 +231,6 @@ class ObjectPass:
         t = cpu_time()
         self._blend(col, active, s.alpha)
         col.timings.object_queries += cpu_time() - t
-        h = self.tree
         ck = self._clock
         ck[:3] = self._clock0[:3] + s.alpha * self._ref
         ck[3] = self._clock0[3] + s.alpha * self._body_speed
@@ -234,23 +238,23 @@ class ObjectPass:
         t = cpu_time()
 
         # the groups go to the kernel as plain tuples (it unpacks them by position): numba
-        # types a named tuple ≈ 6 µs slower a call, and a walk frame makes 30–240 calls
+        # types a named tuple ≈ 6 µs slower a call, and a walk frame makes 30–240 calls; the
+        # body's and the points' are made once (their arrays change in place)
         now = tuple(K.ObjectTime(s.alpha, s.alpha_prev, col._frame, self._ref, ck,
                                  self._body_speed))
-        body = tuple(K.ObjectBody(self._vb, self._vp, col.faces, col.face_part, self._nb,
-                                  h.links, h.tris, h.root, self._lf, self._nbl, self._vpl))
+        body = self._body
         cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth,
-                                   col.skips.far_points or bool(np.any(col._present & ~active)),
+                                   col.skips.far_points or bool((col._present & ~active).any()),
                                    col.skips.reuse_closest and not recheck, col.reuse_tol,
                                    col.skips.clearance, col.second_surface, col.plane_band,
                                    recheck))
-        arrays = tuple(pts.arrays())
+        arrays = pts.arrays
 
         def points(start, stop, stack, reach, spd, rec2, stats):
             K.object_pass(s.pos, s.vel, s.prev, held, col.planes, only, active, s.lo, s.hi,
                           now, body, cfg, arrays, (stack, reach, spd, rec2, stats), start, stop)
 
-        col._split(points, n, int(only.sum()) if len(only) else n)
+        col._split(points, n, only)
         col.timings.object_queries += cpu_time() - t
         return pts

@@ -17,6 +17,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from catwalk.cloth.kernels import cap_speed
 from catwalk.cloth.model import ClothModel, State
 from catwalk.cloth.solver import ClothExplosionError, Solver
 from catwalk.errors import Cancelled
@@ -61,13 +62,7 @@ def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, 
     solver.after_collision(model, state, h)
     if clock is not None:
         clock["correction"] = clock.get("correction", 0.0) + time.perf_counter() - t
-    v = state.velocities
-    s2 = np.einsum("ij,ij->i", v, v)
-    fast = s2 > MAX_CLOTH_SPEED * MAX_CLOTH_SPEED
-    if not fast.any():
-        return 0
-    v[fast] *= (MAX_CLOTH_SPEED / np.sqrt(s2[fast]))[:, None]
-    return int(fast.sum())
+    return int(cap_speed(state.velocities, MAX_CLOTH_SPEED))
 
 
 def advance(solver: Solver, model: ClothModel, state: State, collider, duration: float,
