@@ -524,13 +524,23 @@ def limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, iterations
     """Provot 1995: after the position update, move the end points of every over-long
     stretch/shear spring towards each other (shared by inverse mass), in storage order, repeated
     ``iterations`` times; the velocities take the same change / dt so that they stay consistent
-    with the positions (semi-implicit Euler needs it to stay stable)."""
+    with the positions (semi-implicit Euler needs it to stay stable).
+
+    After the first round a spring is measured again only if an end moved since it was last
+    measured (``moved``: when each point last moved, counted in spring visits): any other is
+    as long as it was then, within its limit, and would be left as it is — the result is that
+    of measuring every spring every round."""
     inv_dt = 1.0 / dt
-    for _it in range(iterations):
+    moved = np.zeros(X.shape[1], dtype=np.int64)
+    for it in range(iterations):
         changed = False
         for s in range(n_lim):
             a = sa[s]
             b = sb[s]
+            # this spring's visit in the previous round (negative in the first: measure)
+            last = (it - 1) * n_lim + s
+            if moved[a] <= last and moved[b] <= last:
+                continue
             wa = w_lim[a]
             wb = w_lim[b]
             wsum = wa + wb
@@ -559,6 +569,9 @@ def limit_provot_positions(X, V, w_lim, sa, sb, rest, n_lim, tau, dt, iterations
             V[0, b] -= gb * dx * inv_dt
             V[1, b] -= gb * dy * inv_dt
             V[2, b] -= gb * dz * inv_dt
+            # moved after this visit (the spring itself is measured again next round)
+            moved[a] = it * n_lim + s + 1
+            moved[b] = it * n_lim + s + 1
         if not changed:
             break
 
