@@ -242,3 +242,21 @@ def test_provot_measures_again_only_springs_whose_ends_moved_and_gives_the_full_
                              0.05, 1e-3, iterations)
         assert np.array_equal(X, Xr) and np.array_equal(V, Vr)
         assert not np.array_equal(X, x.T)
+
+
+def test_provot_stops_at_a_round_that_moves_nothing_as_the_full_rounds_do():
+    m = _irregular_model()
+    x = m.rest_positions.copy()
+    x[m.n_points // 2] += (0.003, 0.0, 0.006)   # one point pulled: its springs too long
+    w = 1.0 / m.mass
+    X, V = np.ascontiguousarray(x.T), np.zeros((3, m.n_points))
+    Xr, Vr = X.copy(), V.copy()
+    K.limit_provot_positions(X, V, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited,
+                             0.05, 1e-3, 50)
+    _provot_every_spring(Xr, Vr, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited, 0.05,
+                         1e-3, 50)
+    assert np.array_equal(X, Xr) and np.array_equal(V, Vr)
+    # converged before the 50th round: the last round found every spring within its limit
+    d = X[:, m.spring_b[:m.n_limited]] - X[:, m.spring_a[:m.n_limited]]
+    assert (np.sqrt((d * d).sum(axis=0)) <= 1.05 * m.spring_rest[:m.n_limited]).all()
+    assert not np.array_equal(X, x.T)

@@ -6,10 +6,11 @@ dress, 2 s), walked with each of the given thread counts in turn, alternating:
 Prints, per walk, each pass's ms a recorded frame (the blend into the walk left out), calls
 a frame and points a call: the edge fallback (``all-edge``: the points the maps leave, every
 part) and the again pass (``all-again``: the points a limb pushed, every part), the limbs'
-pass (``limbs``), the frame kept's look again (``recheck-all``) and the image pass
-(``image``), and the walk's own ms_per_frame split; ``--first`` splits each pass's figures
-between a frame's first response (``@first``: the points' clearances over the frame's swept
-boxes start again there) and the others.
+pass (``limbs``), the frame kept's look again (``recheck-all``, or ``recheck-limbs`` without
+the edge fallback) and the image pass (``image``), and the walk's own ms_per_frame split;
+``--first`` splits each pass's figures between a frame's first response (``@first``: the
+points' clearances over the frame's swept boxes start again there) and the others. The edge
+fallback is told from the again pass by its mask (the hybrid collider's ``_edge``).
 docs/collide.md "Both cores" quotes it. A development tool: it wraps the passes' ``run``
 methods to time them; the product does not import it."""
 
@@ -58,7 +59,8 @@ def main() -> None:
         r = o_run(self, col, s, held, active, pts, only, recheck)
         if when is None:
             return r
-        a = acc[("recheck-all" if recheck else key) + when]
+        part = "all" if active[0] else "limbs"
+        a = acc[(f"recheck-{part}" if recheck else key) + when]
         a[0] += 1
         a[1] += time.perf_counter() - t
         a[2] += int(only.sum()) if len(only) else len(s.pos)

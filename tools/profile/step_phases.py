@@ -7,8 +7,9 @@ Walks the paper's scene (the dress dressed as `bench paper` dresses it, the hybr
 once to compile, then again with every catwalk numba kernel wrapped in a wall-clock timer
 (the walk's wall time less the kernels' is the Python and numpy between them; the recorded
 frames' error measures are left out, as the walk's own ``ms_per_frame`` leaves them) and
-with the cloth's state copied at three of the solver's calls (early, middle, late). On each copy it
-times each phase of an explicit step (best of five rounds of ``--repeat`` calls): the forces
+with the cloth's state copied at three of the solver's calls (early, middle, late); the
+kernels are put back after that walk. On each copy it times each phase of an explicit step
+(best of five rounds of ``--repeat`` calls, less the copies some of them need): the forces
 (split into the runs of two or more springs and the single springs across seams and
 outlines), the velocity update, the predicted positions, the marking of over-long springs,
 the ordered pass, the position update, the contact planes, and the whole step as
@@ -68,9 +69,10 @@ def phases(snap, repeat: int) -> dict:
     for name, (rr, nl) in parts.items():
         out[name] = best_us(lambda rr=rr, nl=nl: forces(rr, nl), repeat)
     forces()
+    # the phases that change their input run on a fresh copy each call: its cost is taken off
+    copy = best_us(lambda: V0.copy(), repeat)
     out["velocity update"] = best_us(
-        lambda: K.integrate_velocities(V0.copy(), F, w_int, h, limit[7]), repeat)
-    out["(a copy, in the line above)"] = best_us(lambda: V0.copy(), repeat)
+        lambda: K.integrate_velocities(V0.copy(), F, w_int, h, limit[7]), repeat) - copy
     K.integrate_velocities(V, F, w_int, h, limit[7])
     V1 = V.copy()
     out["predicted positions"] = best_us(lambda: K.predict(X, V, h, XP), repeat)
@@ -91,10 +93,10 @@ def phases(snap, repeat: int) -> dict:
 
     out["ordered pass"] = best_us(ordered, repeat) - best_us(before, repeat)
     out["position update"] = best_us(
-        lambda: K.advance_positions(X0.copy(), V1, R, h, True, XPREV), repeat)
+        lambda: K.advance_positions(X0.copy(), V1, R, h, True, XPREV), repeat) - copy
     out["contact planes"] = best_us(
         lambda: K.apply_planes(X0.copy(), V1.copy(), contact[0], contact[1], contact[2]),
-        repeat)
+        repeat) - 2 * copy
     out["points with a plane"] = len(contact[0])
     bad = np.zeros(2, np.int64)
 
@@ -102,7 +104,11 @@ def phases(snap, repeat: int) -> dict:
         K.run_steps(x.copy(), v.copy(), xprev.copy(), h, 10, model, seams, limit, order,
                     contact, work, bad)
 
-    out["step (run_steps, 10 a call)"] = best_us(ten_steps, max(1, repeat // 10)) / 10
+    def copies():
+        x.copy(), v.copy(), xprev.copy()
+
+    out["step (run_steps, 10 a call)"] = (best_us(ten_steps, max(1, repeat // 10))
+                                          - best_us(copies, repeat)) / 10
     return out
 
 
@@ -124,8 +130,10 @@ def stiffness_shares(model) -> str:
             f"{np.median(model.spring_k[n:]):.3f} N/m")
 
 
-def time_kernels(acc: dict) -> None:
-    """Wrap every catwalk numba kernel that modules reach by name in a wall-clock timer."""
+def time_kernels(acc: dict) -> list:
+    """Wrap every catwalk numba kernel that modules reach by name in a wall-clock timer;
+    returns (module, name, kernel) for each, to put back."""
+    replaced = []
     for name, mod in list(sys.modules.items()):
         if not name.startswith("catwalk") or mod is None:
             continue
@@ -138,6 +146,26 @@ def time_kernels(acc: dict) -> None:
                     acc[key][1] += time.perf_counter() - t
                     return r
                 setattr(mod, attr, timed)
+                replaced.append((mod, attr, val))
+    return replaced
+
+
+def wrapper_us() -> float:
+    """What the timer adds to a call, µs: a trivial kernel called with and without it."""
+    @numba.njit
+    def nothing(a):
+        return a
+
+    acc = collections.defaultdict(lambda: [0, 0.0])
+
+    def timed(a):
+        t = time.perf_counter()
+        r = nothing(a)
+        acc["x"][0] += 1
+        acc["x"][1] += time.perf_counter() - t
+        return r
+
+    return best_us(lambda: timed(1.0), 20000) - best_us(lambda: nothing(1.0), 20000)
 
 
 def main() -> None:
@@ -165,28 +193,37 @@ def main() -> None:
                               a, np.ndarray) else a for a in grp) for grp in g)))
         return run_explicit(self, model, state, w_int, w_lim, h, nsteps)
 
-    S.Solver._run_explicit = keep_some
     # the recorded frames' error measures (independent of the simulation) are left out
     tally_frame = W._Tally.frame
-    W._Tally.frame = lambda *a, **kw: None
     acc = collections.defaultdict(lambda: [0, 0.0])
-    time_kernels(acc)
-    t = time.perf_counter()
-    w = W.walk(body, motion, dressed, walking)
-    wall = time.perf_counter() - t
-    S.Solver._run_explicit = run_explicit
-    W._Tally.frame = tally_frame
+    S.Solver._run_explicit = keep_some
+    W._Tally.frame = lambda *a, **kw: None
+    replaced = time_kernels(acc)
+    try:
+        t = time.perf_counter()
+        w = W.walk(body, motion, dressed, walking)
+        wall = time.perf_counter() - t
+    finally:
+        S.Solver._run_explicit = run_explicit
+        W._Tally.frame = tally_frame
+        for mod, attr, val in replaced:
+            setattr(mod, attr, val)
     in_kernels = sum(a[1] for a in acc.values())
+    calls_timed = sum(a[0] for a in acc.values())
     frames = motion.frames + W.blend_frame_count(walking, motion.fps)
-    print(f"walk: {frames} frames (blend included), {calls[1] / frames:.1f} cloth steps and "
-          f"{w.stats['collisions_per_frame']['mean']:.1f} responses a recorded frame; "
+    print(f"walk of {frames} frames, the blend into it and the set-up (the motion skinned, "
+          f"the hierarchies built) included: {calls[1] / frames:.1f} cloth steps a frame; "
           f"wall {wall * 1e3 / frames:.1f} ms a frame, in the kernels "
           f"{in_kernels * 1e3 / frames:.1f}, Python and numpy between them "
-          f"{(wall - in_kernels) * 1e3 / frames:.1f} ({100 * (1 - in_kernels / wall):.0f} %); "
-          f"the walk's ms_per_frame {w.stats['ms_per_frame']}")
+          f"{(wall - in_kernels) * 1e3 / frames:.1f} ({100 * (1 - in_kernels / wall):.0f} %; "
+          f"the timer's own {calls_timed / frames:.0f} calls a frame × "
+          f"{wrapper_us():.2f} µs counted there); the walk's own figures, per recorded frame: "
+          f"{w.stats['collisions_per_frame']['mean']:.1f} responses, ms_per_frame "
+          f"{ {k: round(v, 2) for k, v in w.stats['ms_per_frame'].items()} }")
     print(stiffness_shares(dressed.model))
     for key, (n, s) in sorted(acc.items(), key=lambda kv: -kv[1][1])[:8]:
-        print(f"  {key}: {s * 1e3 / frames:.2f} ms a frame, {n / frames:.1f} calls")
+        print(f"  {key}: {s * 1e3 / frames:.2f} ms a frame (of the {frames}), "
+              f"{n / frames:.1f} calls")
     for i, snap in enumerate(snaps):
         ph = phases(snap, args.repeat)
         print(f"step at solver call {200 * (i + 1)}: " + "; ".join(
