@@ -1,0 +1,132 @@
+"""What one XPBD sweep over the paper dress's springs costs, against the explicit step's force
+loop over the same springs:
+
+    .venv/bin/python tools/profile/xpbd_sweep.py
+
+The sweep in storage order (as `kernels.run_steps_xpbd` runs it: each projection sees the
+ones before it) and in colour groups (a greedy edge colouring in storage order: no two
+springs of a group share a point, so a group's corrections are found from the positions at
+its start and applied after — the form a vectorised sweep would take). Best of five rounds of
+200 calls, µs a call. docs/cloth.md "An alternative integrator: XPBD" quotes it. A
+development tool: the product does not import it."""
+
+import time
+
+import numba
+import numpy as np
+
+from catwalk.bench.paper import choose_h, paper_inputs
+from catwalk.cloth import kernels as K
+from catwalk.simulate import dress, preset
+
+DT = 1.0 / 300.0   # the walk's XPBD step (ten a 30-fps frame)
+
+
+def colour_groups(sa: np.ndarray, sb: np.ndarray, n_points: int):
+    """A greedy edge colouring in storage order: the springs' order by colour and each
+    colour's range in it."""
+    used = [set() for _ in range(n_points)]
+    colour = np.empty(len(sa), np.int64)
+    for s, (a, b) in enumerate(zip(sa.tolist(), sb.tolist(), strict=True)):
+        c = 0
+        while c in used[a] or c in used[b]:
+            c += 1
+        colour[s] = c
+        used[a].add(c)
+        used[b].add(c)
+    order = np.argsort(colour, kind="stable")
+    ptr = np.searchsorted(colour[order], np.arange(colour.max() + 2))
+    return order, ptr
+
+
+@numba.njit(error_model="numpy")
+def sweep_in_storage_order(p, x, w, sa, sb, rest, k, c, lam, dt):
+    inv_dt = 1.0 / dt
+    for s in range(sa.shape[0]):
+        a = sa[s]
+        b = sb[s]
+        ikd = 1.0 / (k[s] * dt)
+        lam[s] += K._xpbd_distance(p, x, a, b, w[a], w[b], rest[s], ikd * inv_dt, c[s] * ikd,
+                                   lam[s])
+
+
+@numba.njit(error_model="numpy")
+def sweep_in_colour_groups(P, X, w, ca, cb, rest, at, gam, lam, ptr, corr):
+    """The same projections on (3, n) positions, a colour group at a time."""
+    for g in range(ptr.shape[0] - 1):
+        for j in range(ptr[g], ptr[g + 1]):
+            a = ca[j]
+            b = cb[j]
+            dx = P[0, b] - P[0, a]
+            dy = P[1, b] - P[1, a]
+            dz = P[2, b] - P[2, a]
+            ll = np.sqrt(dx * dx + dy * dy + dz * dz)
+            inv = 1.0 / max(ll, 1e-12)
+            dx *= inv
+            dy *= inv
+            dz *= inv
+            dl = (((P[0, b] - X[0, b]) - (P[0, a] - X[0, a])) * dx
+                  + ((P[1, b] - X[1, b]) - (P[1, a] - X[1, a])) * dy
+                  + ((P[2, b] - X[2, b]) - (P[2, a] - X[2, a])) * dz)
+            dlam = ((-(ll - rest[j]) - at[j] * lam[j] - gam[j] * dl)
+                    / ((1.0 + gam[j]) * (w[a] + w[b]) + at[j]))
+            lam[j] += dlam
+            corr[0, j] = dlam * dx
+            corr[1, j] = dlam * dy
+            corr[2, j] = dlam * dz
+        for j in range(ptr[g], ptr[g + 1]):
+            a = ca[j]
+            b = cb[j]
+            for q in range(3):
+                P[q, a] -= w[a] * corr[q, j]
+                P[q, b] += w[b] * corr[q, j]
+
+
+def best_us(f, repeat: int = 200) -> float:
+    f()
+    best = np.inf
+    for _ in range(5):
+        t = time.perf_counter()
+        for _ in range(repeat):
+            f()
+        best = min(best, (time.perf_counter() - t) / repeat)
+    return best * 1e6
+
+
+def main() -> None:
+    garment, body, _ = paper_inputs(2.0)
+    h, _ = choose_h(garment, body, "M")
+    m = dress(body, garment, "M", settings=preset("balanced").with_(h=h)).model
+    sa = m.spring_a.astype(np.int64)
+    sb = m.spring_b.astype(np.int64)
+    order, ptr = colour_groups(sa, sb, m.n_points)
+    sizes = np.diff(ptr)
+    print(f"{len(sa)} springs in {len(sizes)} colour groups of {sizes.min()}–{sizes.max()}")
+    w = 1.0 / m.mass
+    rng = np.random.default_rng(0)
+    x = m.rest_positions.copy()
+    p = x + rng.normal(0.0, 0.001, x.shape)
+    lam = np.zeros(len(sa))
+    copy = best_us(lambda: p.copy())
+    storage = best_us(lambda: sweep_in_storage_order(
+        p.copy(), x, w, sa, sb, m.spring_rest, m.spring_k, m.spring_c, lam, DT)) - copy
+    k, c = m.spring_k[order], m.spring_c[order]
+    at, gam = 1.0 / (k * DT * DT), c / (k * DT)
+    X, P = np.ascontiguousarray(x.T), np.ascontiguousarray(p.T)
+    ca, cb, rest = sa[order], sb[order], m.spring_rest[order]
+    corr = np.zeros((3, len(sa)))
+    lam_c = np.zeros(len(sa))
+    groups = best_us(lambda: sweep_in_colour_groups(
+        P.copy(), X, w, ca, cb, rest, at, gam, lam_c, ptr, corr)) - copy
+    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    F = np.zeros((3, m.n_points))
+    none = np.zeros(0, np.int32)
+    forces = best_us(lambda: K.accumulate_forces(
+        X, np.zeros_like(X), m.mass, runs, n_runs_lim, m.spring_rest, m.spring_k, m.spring_c,
+        m.fabric.compression, np.array([0.0, -9.81, 0.0]), m.fabric.air, none, none, 0.0, F))
+    print(f"one XPBD sweep: {storage:.1f} µs in storage order, {groups:.1f} µs in colour "
+          f"groups; the explicit step's force loop: {forces:.1f} µs")
+
+
+if __name__ == "__main__":
+    main()
