@@ -5,10 +5,10 @@ loop over the same springs:
 
 The sweep in storage order (as `kernels.run_steps_xpbd` runs it: each projection sees the
 ones before it) and in colour groups (a greedy edge colouring in storage order: no two
-springs of a group share a point, so a group's corrections are found from the positions at
-its start and applied after — the form a vectorised sweep would take). Best of five rounds of
-200 calls, µs a call. docs/cloth.md "An alternative integrator: XPBD" quotes it. A
-development tool: the product does not import it."""
+springs of a group share a point, so a group's projections are independent — what a
+vectorised sweep would need), the same projection (`kernels._xpbd_distance`) either way.
+Best of five rounds of 200 calls, µs a call. docs/cloth.md "An alternative integrator: XPBD"
+quotes it. A development tool: the product does not import it."""
 
 import time
 
@@ -50,38 +50,6 @@ def sweep_in_storage_order(p, x, w, sa, sb, rest, k, c, lam, dt):
                                    lam[s])
 
 
-@numba.njit(error_model="numpy")
-def sweep_in_colour_groups(P, X, w, ca, cb, rest, at, gam, lam, ptr, corr):
-    """The same projections on (3, n) positions, a colour group at a time."""
-    for g in range(ptr.shape[0] - 1):
-        for j in range(ptr[g], ptr[g + 1]):
-            a = ca[j]
-            b = cb[j]
-            dx = P[0, b] - P[0, a]
-            dy = P[1, b] - P[1, a]
-            dz = P[2, b] - P[2, a]
-            ll = np.sqrt(dx * dx + dy * dy + dz * dz)
-            inv = 1.0 / max(ll, 1e-12)
-            dx *= inv
-            dy *= inv
-            dz *= inv
-            dl = (((P[0, b] - X[0, b]) - (P[0, a] - X[0, a])) * dx
-                  + ((P[1, b] - X[1, b]) - (P[1, a] - X[1, a])) * dy
-                  + ((P[2, b] - X[2, b]) - (P[2, a] - X[2, a])) * dz)
-            dlam = ((-(ll - rest[j]) - at[j] * lam[j] - gam[j] * dl)
-                    / ((1.0 + gam[j]) * (w[a] + w[b]) + at[j]))
-            lam[j] += dlam
-            corr[0, j] = dlam * dx
-            corr[1, j] = dlam * dy
-            corr[2, j] = dlam * dz
-        for j in range(ptr[g], ptr[g + 1]):
-            a = ca[j]
-            b = cb[j]
-            for q in range(3):
-                P[q, a] -= w[a] * corr[q, j]
-                P[q, b] += w[b] * corr[q, j]
-
-
 def best_us(f, repeat: int = 200) -> float:
     f()
     best = np.inf
@@ -110,14 +78,13 @@ def main() -> None:
     copy = best_us(lambda: p.copy())
     storage = best_us(lambda: sweep_in_storage_order(
         p.copy(), x, w, sa, sb, m.spring_rest, m.spring_k, m.spring_c, lam, DT)) - copy
-    k, c = m.spring_k[order], m.spring_c[order]
-    at, gam = 1.0 / (k * DT * DT), c / (k * DT)
-    X, P = np.ascontiguousarray(x.T), np.ascontiguousarray(p.T)
-    ca, cb, rest = sa[order], sb[order], m.spring_rest[order]
-    corr = np.zeros((3, len(sa)))
-    lam_c = np.zeros(len(sa))
-    groups = best_us(lambda: sweep_in_colour_groups(
-        P.copy(), X, w, ca, cb, rest, at, gam, lam_c, ptr, corr)) - copy
+    # within a group no two springs share a point: projecting them one after the other is
+    # the same as finding all of a group's corrections first and applying them after
+    ca, cb = sa[order], sb[order]
+    rest, k, c = m.spring_rest[order], m.spring_k[order], m.spring_c[order]
+    groups = best_us(lambda: sweep_in_storage_order(
+        p.copy(), x, w, ca, cb, rest, k, c, lam, DT)) - copy
+    X = np.ascontiguousarray(x.T)
     runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
     F = np.zeros((3, m.n_points))
     none = np.zeros(0, np.int32)
