@@ -18,10 +18,9 @@ import argparse
 import collections
 import time
 
-from catwalk.bench.paper import choose_h, paper_inputs
+from catwalk.bench.paper import paper_dressed
 from catwalk.collide import image_pass as IP
 from catwalk.collide import object_pass as OP
-from catwalk.simulate import dress, preset
 from catwalk.simulate.walking import blend_frame_count, walk
 
 
@@ -32,10 +31,7 @@ def main() -> None:
     ap.add_argument("--first", action="store_true",
                     help="split each pass between a frame's first response and the others")
     args = ap.parse_args()
-    garment, body, motion = paper_inputs(2.0)
-    h, _ = choose_h(garment, body, "M")
-    settings = preset("balanced").with_(h=h)
-    dressed = dress(body, garment, "M", settings=settings)
+    body, motion, settings, dressed = paper_dressed(2.0)
     acc = collections.defaultdict(lambda: [0, 0.0, 0])
     o_run, i_run = OP.ObjectPass.run, IP.ImagePass.run
     first_of = {}   # the frame → its first response's time

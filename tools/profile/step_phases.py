@@ -24,24 +24,12 @@ import time
 
 import numba
 import numpy as np
+from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
-from catwalk.bench.paper import choose_h, paper_inputs
+from catwalk.bench.paper import paper_dressed
 from catwalk.cloth import kernels as K
 from catwalk.cloth import solver as S
-from catwalk.simulate import dress, preset
 from catwalk.simulate import walking as W
-
-
-def best_us(f, repeat: int) -> float:
-    """The best of five rounds of ``repeat`` calls of ``f``, µs a call."""
-    f()
-    best = np.inf
-    for _ in range(5):
-        t = time.perf_counter()
-        for _ in range(repeat):
-            f()
-        best = min(best, (time.perf_counter() - t) / repeat)
-    return best * 1e6
 
 
 def phases(snap, repeat: int) -> dict:
@@ -173,10 +161,7 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=2.0)
     ap.add_argument("--repeat", type=int, default=300)
     args = ap.parse_args()
-    garment, body, motion = paper_inputs(args.seconds)
-    h, _ = choose_h(garment, body, "M")
-    settings = preset("balanced").with_(h=h)
-    dressed = dress(body, garment, "M", settings=settings)
+    body, motion, settings, dressed = paper_dressed(args.seconds)
     walking = settings.with_(collider="hybrid")
     W.walk(body, motion, dressed, walking)   # compiled, warm
 

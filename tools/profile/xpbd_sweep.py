@@ -10,16 +10,16 @@ vectorised sweep would need), the same projection (`kernels._xpbd_distance`) eit
 Best of five rounds of 200 calls, µs a call. docs/cloth.md "An alternative integrator: XPBD"
 quotes it. A development tool: the product does not import it."""
 
-import time
 
 import numba
 import numpy as np
+from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
-from catwalk.bench.paper import choose_h, paper_inputs
+from catwalk.bench.paper import paper_dressed
 from catwalk.cloth import kernels as K
-from catwalk.simulate import dress, preset
 
 DT = 1.0 / 300.0   # the walk's XPBD step (ten a 30-fps frame)
+REPEAT = 200       # calls a round
 
 
 def colour_groups(sa: np.ndarray, sb: np.ndarray, n_points: int):
@@ -50,21 +50,8 @@ def sweep_in_storage_order(p, x, w, sa, sb, rest, k, c, lam, dt):
                                    lam[s])
 
 
-def best_us(f, repeat: int = 200) -> float:
-    f()
-    best = np.inf
-    for _ in range(5):
-        t = time.perf_counter()
-        for _ in range(repeat):
-            f()
-        best = min(best, (time.perf_counter() - t) / repeat)
-    return best * 1e6
-
-
 def main() -> None:
-    garment, body, _ = paper_inputs(2.0)
-    h, _ = choose_h(garment, body, "M")
-    m = dress(body, garment, "M", settings=preset("balanced").with_(h=h)).model
+    m = paper_dressed(2.0)[3].model
     sa = m.spring_a.astype(np.int64)
     sb = m.spring_b.astype(np.int64)
     order, ptr = colour_groups(sa, sb, m.n_points)
@@ -75,22 +62,24 @@ def main() -> None:
     x = m.rest_positions.copy()
     p = x + rng.normal(0.0, 0.001, x.shape)
     lam = np.zeros(len(sa))
-    copy = best_us(lambda: p.copy())
+    copy = best_us(lambda: p.copy(), REPEAT)
     storage = best_us(lambda: sweep_in_storage_order(
-        p.copy(), x, w, sa, sb, m.spring_rest, m.spring_k, m.spring_c, lam, DT)) - copy
+        p.copy(), x, w, sa, sb, m.spring_rest, m.spring_k, m.spring_c, lam, DT), REPEAT) - copy
     # within a group no two springs share a point: projecting them one after the other is
     # the same as finding all of a group's corrections first and applying them after
     ca, cb = sa[order], sb[order]
     rest, k, c = m.spring_rest[order], m.spring_k[order], m.spring_c[order]
     groups = best_us(lambda: sweep_in_storage_order(
-        p.copy(), x, w, ca, cb, rest, k, c, lam, DT)) - copy
+        p.copy(), x, w, ca, cb, rest, k, c, lam, DT), REPEAT) - copy
     X = np.ascontiguousarray(x.T)
     runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
     F = np.zeros((3, m.n_points))
     none = np.zeros(0, np.int32)
+    V = np.zeros_like(X)
+    gravity = np.array([0.0, -9.81, 0.0])
     forces = best_us(lambda: K.accumulate_forces(
-        X, np.zeros_like(X), m.mass, runs, n_runs_lim, m.spring_rest, m.spring_k, m.spring_c,
-        m.fabric.compression, np.array([0.0, -9.81, 0.0]), m.fabric.air, none, none, 0.0, F))
+        X, V, m.mass, runs, n_runs_lim, m.spring_rest, m.spring_k, m.spring_c,
+        m.fabric.compression, gravity, m.fabric.air, none, none, 0.0, F), REPEAT)
     print(f"one XPBD sweep: {storage:.1f} µs in storage order, {groups:.1f} µs in colour "
           f"groups; the explicit step's force loop: {forces:.1f} µs")
 

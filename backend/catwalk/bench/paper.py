@@ -72,6 +72,19 @@ def paper_inputs(seconds: float):
     return garment, body, walk_motion(body, seconds, style="catwalk")
 
 
+def paper_dressed(seconds: float, size: str = "M", progress=None):
+    """The paper's scene dressed: ``(body, motion, settings, dressed)`` — the dress ``size``
+    sewn on the body by ``balanced`` at the grid spacing of the paper's point count
+    (:func:`choose_h`), the settings the walks start from."""
+    from catwalk.simulate import dress, preset
+
+    garment, body, motion = paper_inputs(seconds)
+    h, _ = choose_h(garment, body, size)
+    settings = preset("balanced").with_(h=h)
+    return body, motion, settings, dress(body, garment, size, settings=settings,
+                                         progress=progress)
+
+
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
         progress=None, threads: int = 2, walk: dict | None = None,
         reference: bool = True) -> dict:

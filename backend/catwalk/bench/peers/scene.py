@@ -58,16 +58,12 @@ class PeerScene:
 
 def paper_scene(seconds: float, size: str = "M", progress=None) -> PeerScene:
     """Dress the paper's scene once and skin the body for every frame of the walk."""
-    from catwalk.bench.paper import choose_h, paper_inputs
-    from catwalk.simulate import dress, preset
+    from catwalk.bench.paper import paper_dressed
     from catwalk.simulate.walking import walk_body_frames
 
-    garment, body, motion = paper_inputs(seconds)
-    h, _ = choose_h(garment, body, size)
-    settings = preset("balanced").with_(h=h)
-    dressed = dress(body, garment, size, settings=settings, progress=progress)
+    body, motion, settings, dressed = paper_dressed(seconds, size, progress)
     frames, _, n_pre = walk_body_frames(body, motion, settings, progress=progress)
-    return PeerScene(body, dressed, motion, settings, frames, n_pre, h)
+    return PeerScene(body, dressed, motion, settings, frames, n_pre, settings.h)
 
 
 def welded(dressed, pattern_positions: np.ndarray) -> np.ndarray:
