@@ -368,12 +368,9 @@ class Solver:
     def _planes(self, state):
         """The state's contact planes as (point indices, (m, 8) planes, time since set)."""
         p = state.planes
-        n = state.positions.shape[0]
-        if p is None or p.shape != (n, PLANE_COLUMNS):
+        if p is None or p.shape != (state.positions.shape[0], PLANE_COLUMNS):
             return _NO_PLANE_IDX, _NO_PLANES, 0.0
-        if self._plane_idx.shape[0] != n:
-            self._plane_idx = np.zeros(n, dtype=np.int64)
-            self._plane_rows = np.zeros((n, PLANE_COLUMNS))
+        # (the state has the model's points, step() checks: the buffers are the model's)
         m = K.planes_set(p, self._plane_idx, self._plane_rows)
         return self._plane_idx[:m], self._plane_rows[:m], state.time - state.plane_time
 
