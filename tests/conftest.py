@@ -16,7 +16,7 @@ def bent_elbow():
     import numpy as np
 
     from catwalk.body.types import Motion
-    from catwalk.motion.quat import axis_angle, mat_to_quat, quat_to_mat
+    from catwalk.geometry.quat import axis_angle, mat_to_quat, quat_to_mat
 
     def make(body, frames=3, degrees=30.0, forward=0.0):
         sk = body.skeleton

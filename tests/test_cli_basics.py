@@ -1,7 +1,7 @@
 import subprocess
 import sys
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 
 def test_assets_are_unpacked_with_licence(mpfb2):
@@ -10,7 +10,7 @@ def test_assets_are_unpacked_with_licence(mpfb2):
 
 
 def test_unknown_command_exits_2():
-    res = subprocess.run([sys.executable, "-m", "catwalk.cli", "no-such-command"],
+    res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "no-such-command"],
                          capture_output=True, text=True)
     assert res.returncode == 2
     assert "invalid choice" in res.stderr

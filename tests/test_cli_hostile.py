@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 REPO = Path(__file__).resolve().parents[1]
 GARMENTS = REPO / "garments"

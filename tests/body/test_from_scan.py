@@ -13,7 +13,7 @@ import pytest
 from catwalk.body import synthetic as sy
 from catwalk.body.from_scan import body_from_scan
 from catwalk.body.types import GIRTHS
-from catwalk.cli import main
+from catwalk.cli.main import main
 from catwalk.exchange.scan import load_scan
 
 FACES = 80_000
@@ -77,8 +77,8 @@ def test_arms_are_posed_as_the_scans(registered):
 
 
 def _walk(body):
+    from catwalk.body.skinning import body_frames
     from catwalk.motion.gait import walk_motion
-    from catwalk.motion.skinning import body_frames
 
     m = walk_motion(body, 2.0, speed=1.2, fps=30)
     return m, body_frames(body, m)[0]
@@ -126,10 +126,10 @@ def test_cli_from_scan_writes_a_body_and_its_report(hip_scan, tmp_path, capsys):
 
 
 def test_a_tryon_on_a_scan_dresses_outside_the_body(hip_scan, tmp_path, capsys):
+    from catwalk.body.skinning import body_frames
     from catwalk.exchange.gltf import read_body, read_motion, validate
     from catwalk.exchange.tryon_glb import read_garments
-    from catwalk.motion.skinning import body_frames
-    from catwalk.simulate.metrics import BodySurface, penetration
+    from catwalk.geometry.surface import BodySurface, penetration
 
     out = tmp_path / "tryon.glb"
     rc = main(["tryon", "--body", str(hip_scan), "--garment",
@@ -177,8 +177,8 @@ def test_a_partial_scan_is_refused(plain_truth, tmp_path, capsys, cut, side):
 def test_a_sitting_body_is_refused(plain_truth, tmp_path, capsys):
     from catwalk.body.limbs import joint_matrices
     from catwalk.body.rig import rigged_base_body
-    from catwalk.motion.quat import rot_x
-    from catwalk.motion.skinning import skin
+    from catwalk.body.skinning import skin
+    from catwalk.geometry.quat import rot_x
 
     base = rigged_base_body(0.0)
     sk = base.skeleton
@@ -206,7 +206,7 @@ def test_near_an_a_pose_and_turned_on_the_scanner(tmp_path, arms_deg, turn_deg):
     template's A-pose, or the whole body turned 10° on the scanner's turntable."""
     import dataclasses
 
-    from catwalk.motion.quat import rot_y
+    from catwalk.geometry.quat import rot_y
 
     truth = sy.true_body(dataclasses.replace(sy.case("hip"), arms_deg=arms_deg))
     truth.vertices = truth.vertices @ rot_y(np.radians(turn_deg)).T

@@ -7,9 +7,9 @@ import sys
 import numpy as np
 import pytest
 
-from catwalk.body.commands import load_recipes
 from catwalk.body.make import make_body
 from catwalk.body.measure import measure_body
+from catwalk.catalogue.bodies import load_recipes
 from catwalk.errors import InputError
 from catwalk.exchange import gltf
 
@@ -77,7 +77,8 @@ def test_out_of_range_requests_are_refused(kwargs, match):
 
 def test_cli_refuses_with_exit_2(tmp_path):
     out = tmp_path / "b.glb"
-    res = subprocess.run([sys.executable, "-m", "catwalk.cli", "body", "make", "--sex", "female",
+    res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "body", "make",
+                          "--sex", "female",
                           "--height", "168", "--bust", "0.9", "-o", str(out)],
                          capture_output=True, text=True)
     assert res.returncode == 2
@@ -88,7 +89,8 @@ def test_cli_refuses_with_exit_2(tmp_path):
 
 def test_cli_makes_a_body(tmp_path):
     out = tmp_path / "b.glb"
-    res = subprocess.run([sys.executable, "-m", "catwalk.cli", "body", "make", "--sex", "male",
+    res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "body", "make",
+                          "--sex", "male",
                           "--height", "1.75", "--bust", "1.0", "--waist", "0.88",
                           "--hips", "1.0", "-o", str(out)], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr

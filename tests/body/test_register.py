@@ -8,7 +8,7 @@ import pytest
 from catwalk.body import register as reg
 from catwalk.body.limbs import pose_arms
 from catwalk.body.rig import rigged_base_body
-from catwalk.motion.quat import rot_y
+from catwalk.geometry.quat import rot_y
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 
 @pytest.fixture(scope="module")
@@ -128,7 +128,7 @@ def test_bad_file_exits_2_with_a_clear_message(case, command, bad_files, capsys)
 
 def test_bad_file_through_the_real_command(bad_files):
     path, _ = bad_files["nan"]
-    res = subprocess.run([sys.executable, "-m", "catwalk.cli", "body", "info", str(path)],
+    res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "body", "info", str(path)],
                          capture_output=True, text=True)
     assert res.returncode == 2
     assert "NaN" in res.stderr and path.name in res.stderr

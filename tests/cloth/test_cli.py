@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 
 def test_bench_cloth_json(capsys):
@@ -66,7 +66,7 @@ def test_bench_bad_input_exits_2():
                  ["bench", "drape", "--compression", "1.5"],
                  ["bench", "drape", "--fabrics", "denim", "--plot", "dc.png"],
                  ["bench", "cloth", "--methods", "magic"]):
-        res = subprocess.run([sys.executable, "-m", "catwalk.cli", *args], capture_output=True,
+        res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", *args], capture_output=True,
                              text=True)
         assert res.returncode == 2, args
         assert "catwalk: error:" in res.stderr and "Traceback" not in res.stderr

@@ -5,12 +5,13 @@ springs must give what visiting every point gives."""
 import numpy as np
 import pytest
 
-from catwalk.cloth import kernels as K
+from catwalk.cloth import contact_planes, springs, strain_limit
 from catwalk.cloth.builder import Panel, build_cloth, circle, rectangle, vertical
-from catwalk.cloth.kernels import SOFT_BAND
-from catwalk.cloth.model import State
 from catwalk.cloth.scenes import hanging_cloth
-from catwalk.cloth.solver import Solver
+from catwalk.cloth.solvers.explicit import kernels as K
+from catwalk.cloth.solvers.explicit.solver import Solver
+from catwalk.cloth.springs import SOFT_BAND
+from catwalk.cloth.state import State
 
 
 def _irregular_model():
@@ -49,17 +50,17 @@ def _reference_forces(m, x, v, gravity, air):
 
 def test_spring_runs_cover_every_spring_once_in_storage_order():
     m = _irregular_model()
-    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    runs, n_runs_lim = springs.model_runs(m.spring_a, m.spring_b, m.n_limited)
     s = np.concatenate([r[0] + np.arange(r[3]) for r in runs])
     assert np.array_equal(s, np.arange(m.n_springs))  # each once, in storage order
     a = np.concatenate([r[1] + np.arange(r[3]) for r in runs])
     b = np.concatenate([r[2] + np.arange(r[3]) for r in runs])
     assert np.array_equal(a, m.spring_a) and np.array_equal(b, m.spring_b)
     assert runs[n_runs_lim - 1, 0] + runs[n_runs_lim - 1, 3] == m.n_limited
-    assert runs[:, 3].max() <= K.RUN_CHUNK
+    assert runs[:, 3].max() <= springs.RUN_CHUNK
     # Provot's grid is mostly long runs
     grid, _ = hanging_cloth(0.6, 0.6, h=0.02)
-    gr, _ = K.model_runs(grid.spring_a, grid.spring_b, grid.n_limited)
+    gr, _ = springs.model_runs(grid.spring_a, grid.spring_b, grid.n_limited)
     assert gr[gr[:, 3] >= 8, 3].sum() > 0.9 * grid.n_springs
 
 
@@ -72,7 +73,7 @@ def test_run_forces_equal_the_plain_spring_loop_bit_for_bit(scale):
     x = c + scale * (m.rest_positions - c) + rng.normal(0, 0.002, (m.n_points, 3))
     v = rng.normal(0, 0.3, (m.n_points, 3))
     gravity = np.array([0.0, -9.81, 0.0])
-    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    runs, n_runs_lim = springs.model_runs(m.spring_a, m.spring_b, m.n_limited)
     F = np.zeros((3, m.n_points))
     none = np.zeros(0, dtype=np.int32)
     K.accumulate_forces(np.ascontiguousarray(x.T), np.ascontiguousarray(v.T), m.mass, runs,
@@ -104,14 +105,16 @@ def test_ordered_pass_on_marked_points_equals_the_pass_over_every_point(share):
         R = np.zeros((3, n))
         dirty = np.zeros(n, dtype=np.uint8)
         K.predict(X, Vw, dt, XP)
-        K.mark_overstretched(XP, sol._runs, sol._n_runs_lim, m.spring_rest, sol.tau, dirty)
+        strain_limit.mark_overstretched(XP, sol._runs, sol._n_runs_lim, m.spring_rest, sol.tau,
+                                        dirty)
         if everything:
             assert 0.05 * n < dirty.sum() < 0.8 * n
             dirty[:] = 1
-        K.limit_ordered_velocity(XP, Vw, sol._w_lim, dt, pts, ptr, oth, cross, sol._order_lim,
-                                 sol._order_lim2, sol._order_pt_cross, 2, 1.0, R, share, dirty,
-                                 m.adj_ptr, m.adj_other, np.empty(16, dtype=np.int64),
-                                 np.empty((16, 3)))
+        strain_limit.limit_ordered_velocity(XP, Vw, sol._w_lim, dt, pts, ptr, oth, cross,
+                                            sol._order_lim, sol._order_lim2,
+                                            sol._order_pt_cross, 2, 1.0, R, share, dirty,
+                                            m.adj_ptr, m.adj_other,
+                                            np.empty(16, dtype=np.int64), np.empty((16, 3)))
         results.append((Vw, XP, R))
     for a, b in zip(*results, strict=True):
         assert np.array_equal(a, b)
@@ -176,7 +179,7 @@ def test_planes_set_takes_the_points_with_a_plane_in_point_order():
     planes[have, 3:] = rng.normal(size=(int(have.sum()), 5))
     idx = np.full(50, -1, dtype=np.int64)
     rows = np.zeros((50, 8))
-    m = K.planes_set(planes, idx, rows)
+    m = contact_planes.planes_set(planes, idx, rows)
     assert m == have.sum()
     assert np.array_equal(idx[:m], np.flatnonzero(have))
     assert np.array_equal(rows[:m], planes[have])
@@ -189,7 +192,7 @@ def test_cap_speed_slows_only_the_points_above_it_to_it():
     speed = np.linalg.norm(before, axis=1)
     fast = speed > 10.0
     assert 0 < fast.sum() < 200
-    assert K.cap_speed(v, 10.0) == fast.sum()
+    assert contact_planes.cap_speed(v, 10.0) == fast.sum()
     assert np.array_equal(v[~fast], before[~fast])
     assert np.allclose(np.linalg.norm(v[fast], axis=1), 10.0, rtol=1e-12)
     assert np.allclose(v[fast] / np.linalg.norm(v[fast], axis=1)[:, None],
@@ -236,8 +239,8 @@ def test_provot_measures_again_only_springs_whose_ends_moved_and_gives_the_full_
     for iterations in (1, 4, 8):
         X, V = np.ascontiguousarray(x.T), np.ascontiguousarray(v.T)
         Xr, Vr = X.copy(), V.copy()
-        K.limit_provot_positions(X, V, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited,
-                                 0.05, 1e-3, iterations)
+        strain_limit.limit_provot_positions(X, V, w, m.spring_a, m.spring_b, m.spring_rest,
+                                            m.n_limited, 0.05, 1e-3, iterations)
         _provot_every_spring(Xr, Vr, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited,
                              0.05, 1e-3, iterations)
         assert np.array_equal(X, Xr) and np.array_equal(V, Vr)
@@ -251,8 +254,8 @@ def test_provot_stops_at_a_round_that_moves_nothing_as_the_full_rounds_do():
     w = 1.0 / m.mass
     X, V = np.ascontiguousarray(x.T), np.zeros((3, m.n_points))
     Xr, Vr = X.copy(), V.copy()
-    K.limit_provot_positions(X, V, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited,
-                             0.05, 1e-3, 50)
+    strain_limit.limit_provot_positions(X, V, w, m.spring_a, m.spring_b, m.spring_rest,
+                                        m.n_limited, 0.05, 1e-3, 50)
     _provot_every_spring(Xr, Vr, w, m.spring_a, m.spring_b, m.spring_rest, m.n_limited, 0.05,
                          1e-3, 50)
     assert np.array_equal(X, Xr) and np.array_equal(V, Vr)

@@ -4,9 +4,10 @@ import pytest
 from catwalk.cloth.analytic import PlaneCollider
 from catwalk.cloth.builder import Panel, Seam, build_cloth, rectangle, vertical
 from catwalk.cloth.fabrics import PRESETS
-from catwalk.cloth.model import State
 from catwalk.cloth.scenes import hanging_cloth
-from catwalk.cloth.solver import ClothExplosionError, Solver, energy, max_strain
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.cloth.solvers.explicit.solver import Solver, energy, max_strain
+from catwalk.cloth.state import State
 from catwalk.errors import CatwalkError
 
 G = -9.81
@@ -196,7 +197,7 @@ def test_a_badly_overstretched_start_is_pulled_back_without_exploding(method):
     """Panels placed on a body, or points pushed out by the collider, can start far beyond the
     strain limit; the velocity passes must bring them back over a few steps (each spring's
     correction capped at MAX_CORRECTION_SPEED), not throw the points at excess / dt."""
-    from catwalk.cloth.kernels import MAX_CORRECTION_SPEED
+    from catwalk.cloth.strain_limit import MAX_CORRECTION_SPEED
 
     start, end, fastest = _overstretched_run(method)
     _, _, fastest_free = _overstretched_run("none")   # the springs alone, no strain limit

@@ -6,12 +6,12 @@ import json
 import numpy as np
 import pytest
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 from catwalk.cloth.builder import Panel, build_cloth, rectangle, vertical
 from catwalk.cloth.fabrics import PRESETS
-from catwalk.cloth.model import State
 from catwalk.cloth.scenes import hanging_cloth
-from catwalk.cloth.solver import Solver, max_strain
+from catwalk.cloth.solvers.explicit.solver import Solver, max_strain
+from catwalk.cloth.state import State
 from catwalk.errors import CatwalkError
 
 G = -9.81

@@ -3,7 +3,7 @@ import json
 import numpy as np
 from PIL import Image
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 
 def test_bench_collide_json_keys(capsys, tmp_path):

@@ -6,7 +6,7 @@ from catwalk.collide import MODES, Skips, make_collider
 from catwalk.collide.collider import face_parts
 from catwalk.collide.shapes import Mannequin, capsule, figure10_pose, sphere, walk_pose
 from catwalk.errors import CatwalkError
-from catwalk.render.raster import ortho_view, rasterize
+from catwalk.geometry.raster import ortho_view, rasterize
 
 T = 0.004  # default cloth thickness
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from catwalk.cloth import builder as cloth
-from catwalk.cloth import model as model_mod
-from catwalk.cloth import solver as solver_mod
+from catwalk.cloth.solvers.explicit import solver as solver_mod
+from catwalk.cloth.state import State
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import sphere
 
@@ -20,7 +20,7 @@ def test_cloth_dropped_on_a_sphere_drapes_over_it(mode):
     place = cloth.horizontal(centre[1] + R + 0.02)
     model = cloth.build_cloth([cloth.Panel(cloth.rectangle(0.4, 0.4), placement=place)],
                               fabric="cotton-jersey", h=0.02)
-    state = model_mod.State.from_model(model)
+    state = State.from_model(model)
     state.positions[:, 0] -= 0.2
     state.positions[:, 2] += 0.2
     solver = solver_mod.Solver(model)

@@ -200,7 +200,7 @@ def test_static_body_gets_a_clip_for_the_garments(tmp_path):
 def test_render_command_draws_the_garment_frames(tryon, tmp_path, capsys):
     from PIL import Image
 
-    from catwalk.cli import main
+    from catwalk.cli.main import main
 
     path, gm = tryon
     out = tmp_path / "f.png"

@@ -4,7 +4,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from catwalk.body.types import Body, Motion, Skeleton
-from catwalk.simulate.frames import GarmentFrames
+from catwalk.garment.frames import GarmentFrames
 
 
 def box_body(subdivisions: int = 1, split_parts: bool = False) -> Body:

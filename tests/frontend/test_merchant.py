@@ -77,7 +77,7 @@ def shop(tmp_path_factory, one_garment_catalogue, fresh_dist):
     proc = Proc(["serve", f"--port={port}", "--workers=1"], env, tmp / "serve.log")
     try:
         proc.wait_for('"api_ready"', timeout=180)
-        out = subprocess.run([sys.executable, "-m", "catwalk.cli", "merchant", "create",
+        out = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "create",
                               "atelier-test"], env=env, capture_output=True, text=True,
                              timeout=120, cwd=REPO)
         assert out.returncode == 0, out.stdout + out.stderr

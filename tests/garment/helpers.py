@@ -6,8 +6,8 @@ import argparse
 
 import numpy as np
 
+from catwalk.cli.garment import register
 from catwalk.errors import CatwalkError
-from catwalk.garment.commands import register
 from catwalk.garment.geometry import Segment
 from catwalk.garment.model import Garment, Panel, Placement, Seam, SeamSide, Shape
 

@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from catwalk.catalogue.garments import build_catalogue, catalogue_files
 from catwalk.exchange.freesewing import ops_to_segments
 from catwalk.exchange.garment_json import load_garment
-from catwalk.garment.catalogue import build_catalogue, catalogue_files
 from catwalk.garment.check import check_garment
 from catwalk.garment.geometry import polygon_area, segment_lengths
 from catwalk.garment.model import cut_pieces
@@ -149,8 +149,8 @@ def test_seam_pairing_agrees_with_placement(name):
 def test_freesewing_lengths_are_our_bodies_and_up_to_date(tmp_path):
     """The lengths the FreeSewing drafts use are measured on our sample bodies (as committed
     in lengths.json) and are plausible for them."""
-    from catwalk.body.commands import load_recipes
-    from catwalk.exchange.freesewing import BODY_LENGTHS, freesewing_lengths
+    from catwalk.catalogue.bodies import load_recipes
+    from catwalk.catalogue.lengths import BODY_LENGTHS, freesewing_lengths
 
     committed = json.loads((ROOT / "freesewing" / "lengths.json").read_text())["bodies"]
     assert set(committed) == {r["name"] for r in load_recipes()}

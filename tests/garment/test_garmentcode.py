@@ -206,7 +206,7 @@ def test_cuff_is_placed_past_its_sleeve():
 def test_mean_shirt_dresses_in_its_own_fabric():
     """The mean shirt as imported (cotton jersey) on female-M: every seam welded (its
     sleeves, placed as GarmentCode placed them, stayed open by 8 cm)."""
-    from catwalk.body.commands import sample_body
+    from catwalk.catalogue.bodies import sample_body
     from catwalk.simulate.fitcheck import dressing_check
 
     g = load_garmentcode(_spec("shirt_mean"))

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from catwalk.garment.catalogue import catalogue_files
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.garment.model import BODY_PARTS, GARMENT_TYPES, PANEL_TYPES, SIDES
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -1,11 +1,11 @@
 import numpy as np
 import pytest
 
+from catwalk.body.skinning import body_frames, joint_world_matrices
 from catwalk.body.types import Body
 from catwalk.errors import CatwalkError
+from catwalk.geometry.quat import quat_to_mat
 from catwalk.motion.gait import foot_sliding, foot_vertices, stride_length, walk_motion
-from catwalk.motion.quat import quat_to_mat
-from catwalk.motion.skinning import body_frames, joint_world_matrices
 
 
 @pytest.fixture(scope="module", params=["catwalk", "normal"])

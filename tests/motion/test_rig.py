@@ -100,7 +100,7 @@ def test_weights_and_parts(neutral_body):
 def test_armpit_weights_are_diffused(neutral_body):
     from catwalk.body.makehuman import body_triangles
     from catwalk.body.rig import armpit_seam, skin_weights
-    from catwalk.mesh import vertex_adjacency
+    from catwalk.geometry.mesh import vertex_adjacency
 
     b = neutral_body
     names = b.skeleton.names

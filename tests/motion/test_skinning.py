@@ -1,13 +1,13 @@
 import numpy as np
 
-from catwalk.body.types import Motion
-from catwalk.motion.quat import axis_angle, make_continuous, mat_to_quat, quat_to_mat
-from catwalk.motion.skinning import (
+from catwalk.body.skinning import (
     body_frames,
     joint_world_matrices,
     skin,
     skinning_matrices,
 )
+from catwalk.body.types import Motion
+from catwalk.geometry.quat import axis_angle, make_continuous, mat_to_quat, quat_to_mat
 
 
 def reference_skin(rest, joints, weights, mats):
@@ -93,7 +93,7 @@ def test_quaternion_helpers():
 
 
 def test_skinner_reuses_its_buffer(neutral_body):
-    from catwalk.motion.skinning import Skinner
+    from catwalk.body.skinning import Skinner
 
     b = neutral_body
     sk = b.skeleton
@@ -107,7 +107,7 @@ def test_skinner_reuses_its_buffer(neutral_body):
 
 def test_rigid_deviation_is_zero_for_single_bone_skin_and_grows_at_a_bent_joint(neutral_body,
                                                                                  bent_elbow):
-    from catwalk.motion.skinning import motion_matrices, rigid_deviation
+    from catwalk.body.skinning import motion_matrices, rigid_deviation
 
     b = neutral_body
     # walking forward: every bone alike

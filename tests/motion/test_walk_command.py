@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from catwalk.body.types import Body
-from catwalk.cli import main
+from catwalk.cli.main import main
 from catwalk.exchange import gltf
 
 

@@ -11,7 +11,7 @@ from urllib.parse import urlsplit
 
 import pytest
 
-from catwalk.cli import build_parser
+from catwalk.cli.main import build_parser
 from catwalk.config import Config
 
 from .helpers import (

@@ -56,7 +56,7 @@ def test_bench_render_reports_its_cost(capsys):
     # speed is a benchmark figure (docs/render.md), not a timed test: check the command works
     import json
 
-    from catwalk.cli import main
+    from catwalk.cli.main import main
 
     assert main(["bench", "render", "--size", "128x192", "--repeats", "2", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

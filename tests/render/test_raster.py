@@ -3,7 +3,7 @@ import pytest
 
 from catwalk.collide.shapes import sphere
 from catwalk.errors import CatwalkError
-from catwalk.render.raster import Raster, ortho_view, rasterize, to_screen, vertex_normals
+from catwalk.geometry.raster import Raster, ortho_view, rasterize, to_screen, vertex_normals
 
 
 def _sphere_raster(keep, radius=0.5, size=200):
@@ -131,7 +131,7 @@ def test_bad_input_is_a_catwalk_error():
 
 
 def test_culling_keeps_the_nearest_and_farthest_layers_of_a_closed_surface():
-    from catwalk.render.raster import CULL_BACK, CULL_FRONT
+    from catwalk.geometry.raster import CULL_BACK, CULL_FRONT
 
     v, f = sphere((0.0, 0.0, 0.0), 0.5, n_around=64, n_rings=32)
     cam = ortho_view((-1, -1, -1), (1, 1, 1), "side", (100, 100))

@@ -4,7 +4,7 @@ Redis and PostgreSQL are the ones at ``CATWALK_TEST_REDIS_URL`` / ``CATWALK_TEST
 (default: the local servers, which ``make test`` starts when they are not running); a test that
 needs one and cannot reach it fails with the reason, it is never skipped. Each test session
 gets its own PostgreSQL database and its own queue name, removed at the end. Workers and
-``catwalk serve`` run as subprocesses (``python -m catwalk.cli``).
+``catwalk serve`` run as subprocesses (``python -m catwalk.cli.main``).
 """
 
 from __future__ import annotations
@@ -65,7 +65,7 @@ def pg_url() -> str:
                     "it, or set CATWALK_TEST_DATABASE_URL", pytrace=False)
     base, _, _ = DB_URL.rpartition("/")
     yield f"{base}/{name}"
-    from catwalk.service import db
+    from catwalk.service.store import db
 
     for (_pid, url), (eng, _) in list(db._engines.items()):
         if name in url:

@@ -73,7 +73,7 @@ class Proc:
     def __init__(self, args: list[str], env: dict[str, str], log: Path):
         self.args, self.log = args, log
         self.out = open(log, "wb")
-        self.p = subprocess.Popen([sys.executable, "-m", "catwalk.cli", *args], env=env,
+        self.p = subprocess.Popen([sys.executable, "-m", "catwalk.cli.main", *args], env=env,
                                   stdout=self.out, stderr=subprocess.STDOUT,
                                   start_new_session=True, cwd=REPO)
 

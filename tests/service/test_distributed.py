@@ -32,15 +32,15 @@ def scaled(tmp_path, catalogue_dir, pg_url, redis_url, queue_name):
 
 
 def _row(config, job_id):
-    from catwalk.service import jobs
+    from catwalk.service.jobs import lifecycle as jobs
 
     return jobs.get(config, job_id)
 
 
 def test_two_workers_share_the_queue_and_survive_a_kill(scaled, procs, catalogue_dir):
-    from catwalk.service import db
     from catwalk.service.api.app import create_app
-    from catwalk.service.models import ResultRow, TryOnRow
+    from catwalk.service.store import db
+    from catwalk.service.store.models import ResultRow, TryOnRow
 
     env, config = scaled
     workers = [start_worker(procs, env, f"worker-{i}") for i in range(2)]

@@ -17,7 +17,7 @@ def test_loadtest_reports_every_route_of_the_mix(tmp_path, catalogue_dir, procs)
     serve = procs(["serve", f"--port={port}", "--workers=1"], env, "serve")
     serve.wait_for('"api_ready"', timeout=120)
     url = f"http://127.0.0.1:{port}"
-    run = subprocess.run([sys.executable, "-m", "catwalk.cli", "loadtest", "--url", url,
+    run = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "loadtest", "--url", url,
                           "--users", "4", "--seconds", "8", "--garment", "pencil-skirt",
                           "--json"], env=env, capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-3000:]
@@ -35,7 +35,7 @@ def test_loadtest_reports_every_route_of_the_mix(tmp_path, catalogue_dir, procs)
 
 
 def test_loadtest_refuses_a_service_that_is_not_there(tmp_path):
-    run = subprocess.run([sys.executable, "-m", "catwalk.cli", "loadtest", "--url",
+    run = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "loadtest", "--url",
                           f"http://127.0.0.1:{free_port()}", "--users", "2", "--seconds", "2"],
                          capture_output=True, text=True, timeout=120)
     assert run.returncode == 2, run.stderr

@@ -37,7 +37,7 @@ def shop(tmp_path, catalogue_dir, pg_url, redis_url, queue_name):
 
 def create_merchant(env, name: str) -> str:
     """``catwalk merchant create NAME`` as an operator runs it: the key is the last line."""
-    out = subprocess.run([sys.executable, "-m", "catwalk.cli", "merchant", "create", name],
+    out = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "create", name],
                          env=env, capture_output=True, text=True, timeout=120, cwd=REPO)
     assert out.returncode == 0, out.stderr
     return out.stdout.strip().splitlines()[-1]
@@ -84,10 +84,10 @@ def test_keys_from_the_cli_and_who_may_see_what(shop):
     env, config = shop
     key_a, key_b = create_merchant(env, "shop-a"), create_merchant(env, "shop-b")
     assert key_a != key_b and key_a.startswith("cwk_")
-    again = subprocess.run([sys.executable, "-m", "catwalk.cli", "merchant", "create",
+    again = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "create",
                             "shop-a"], env=env, capture_output=True, text=True, cwd=REPO)
     assert again.returncode == 2 and "exists already" in again.stderr
-    listed = subprocess.run([sys.executable, "-m", "catwalk.cli", "merchant", "list",
+    listed = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "list",
                              "--json"], env=env, capture_output=True, text=True, cwd=REPO)
     rows = json.loads(listed.stdout)
     assert [r["name"] for r in rows] == ["shop-a", "shop-b"]
@@ -122,7 +122,7 @@ def test_keys_from_the_cli_and_who_may_see_what(shop):
         # a draft is not in the catalogue
         assert client.get(f"/api/garments/{gid}").status_code == 404
         # revoked: 401, and its garment stays its own
-        subprocess.run([sys.executable, "-m", "catwalk.cli", "merchant", "revoke", "shop-a"],
+        subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "revoke", "shop-a"],
                        env=env, check=True, capture_output=True, cwd=REPO)
         r = client.get("/api/merchant/garments", headers=bearer(key_a))
         assert r.status_code == 401 and "revoked" in r.json()["error"]["message"]
@@ -131,9 +131,10 @@ def test_keys_from_the_cli_and_who_may_see_what(shop):
 def test_a_broken_garment_is_refused_with_every_problem_and_nothing_stored(shop):
     from sqlalchemy import func, select
 
-    from catwalk.service import db, merchants
+    from catwalk.service import merchants
     from catwalk.service.api.app import create_app
-    from catwalk.service.models import GarmentVersionRow, MerchantGarmentRow
+    from catwalk.service.store import db
+    from catwalk.service.store.models import GarmentVersionRow, MerchantGarmentRow
 
     env, config = shop
     with TestClient(create_app(config, recovery=False)) as client:
@@ -378,9 +379,10 @@ def test_a_check_whose_worker_died_runs_again_then_fails(shop):
 
     from sqlalchemy import update
 
-    from catwalk.service import db, merchants
     from catwalk.service import merchant_garments as mg
-    from catwalk.service.models import (
+    from catwalk.service import merchants
+    from catwalk.service.store import db
+    from catwalk.service.store.models import (
         GarmentVersionRow,
         MerchantGarmentRow,
         utcnow,

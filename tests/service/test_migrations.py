@@ -17,7 +17,7 @@ def _upgrade(engine, revision: str) -> None:
     from alembic import command
     from alembic.config import Config as AlembicConfig
 
-    from catwalk.service.db import MIGRATIONS
+    from catwalk.service.store.db import MIGRATIONS
 
     with engine.begin() as conn:
         cfg = AlembicConfig()

@@ -44,7 +44,12 @@ SETTINGS = {
                "use_after_free": {"enabled": False}},
     "continue-on-failure": True,
     "max-failures": 100_000,
-    "phases": {"stateful": {"max-steps": 8, "generation": {"max-examples": 12}}},
+    # the stateful phase sends valid data only: with invalid data too, whether one of its
+    # scenarios made a body or a try-on to follow a link to hung on the draws (a change in
+    # any response, an ETag, reshuffles them: 4 of 6 seeds followed none); the coverage and
+    # fuzzing phases send the invalid data
+    "phases": {"stateful": {"max-steps": 8, "generation": {"max-examples": 12,
+                                                           "mode": "positive"}}},
     "operations": [
         # a valid body is 1–3 s of CPU: few of them
         {"include-name": "POST /api/bodies", "generation": {"max-examples": 6},
@@ -95,8 +100,9 @@ class Recorded:
 def service(tmp_path_factory, catalogue_dir):
     from schemathesis.python import asgi
 
-    from catwalk.service import db, merchants
+    from catwalk.service import merchants
     from catwalk.service.api.app import create_app
+    from catwalk.service.store import db
 
     config = make_config(service_env(tmp_path_factory.mktemp("fuzz-storage"), catalogue_dir))
     app = Recorded(create_app(config))

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from catwalk.exchange.garment_json import load_garment
+from catwalk.geometry.surface import BodySurface, penetration
 from catwalk.simulate import dress, preset
-from catwalk.simulate.metrics import BodySurface, penetration
 from catwalk.simulate.walking import strain_of
 
 
@@ -20,7 +20,7 @@ from catwalk.simulate.walking import strain_of
 @pytest.mark.parametrize("name", ["dress", "pencil-skirt", "gc-dress-pencil", "tshirt",
                                   "gc-shirt", "bodice", "trousers"])
 def test_catalogue_garment_sews_on(name, repo_root, dressable_body, male_body):
-    from catwalk.body.commands import sample_body
+    from catwalk.catalogue.bodies import sample_body
 
     g = load_garment(repo_root / "garments" / f"{name}.json")
     body, size = {"trousers": (male_body, "S"),

@@ -1,13 +1,13 @@
 """Every catalogue garment in every size walks with the default settings (the `balanced`
 preset, the hybrid collider): dressed on its sample body and walked 1 s of the catwalk gait,
 no blow-up, no NaN, and no point more than 2 mm inside the body by the independent check
-(`catwalk.simulate.metrics`, on every recorded frame). The same cells, with their times and
+(`catwalk.geometry.surface`, on every recorded frame). The same cells, with their times and
 energies, are `catwalk bench stress --axes garment --sizes S M L` (docs/accuracy.md)."""
 
 import pytest
 
 from catwalk.bench.stress import cell
-from catwalk.garment.catalogue import catalogue_files
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.simulate import preset
 
 GARMENTS = ["bodice", "dress", "gc-dress-pencil", "gc-shirt", "pencil-skirt", "trousers",
@@ -21,7 +21,7 @@ def test_the_list_is_the_catalogue():
 @pytest.mark.parametrize("size", ["S", "M", "L"])
 @pytest.mark.parametrize("name", GARMENTS)
 def test_catalogue_garment_walks_with_the_default_collider(name, size):
-    from catwalk.body.commands import sample_body
+    from catwalk.catalogue.bodies import sample_body
     from catwalk.exchange.garment_json import load_garment
 
     settings = preset("balanced")

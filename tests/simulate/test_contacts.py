@@ -3,7 +3,7 @@ the sources' held points and planes in priority order (the body's plane before t
 
 import numpy as np
 
-from catwalk.cloth.model import PLANE_COLUMNS, State
+from catwalk.cloth.state import PLANE_COLUMNS, State
 from catwalk.simulate.contacts import Contacts, Floor, keep
 
 
@@ -48,7 +48,7 @@ def _sphere_through_cloth(plane_band: float) -> float:
     cloth, the collider resolving once a frame (the cloth's steps in between): the deepest
     any cloth point gets inside the sphere after any step between two resolves (m)."""
     from catwalk.cloth.scenes import hanging_cloth
-    from catwalk.cloth.solver import Solver
+    from catwalk.cloth.solvers.explicit.solver import Solver
     from catwalk.collide import make_collider
     from catwalk.collide.shapes import sphere
     from catwalk.simulate.stepping import resolve_contacts

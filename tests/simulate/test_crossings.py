@@ -7,7 +7,7 @@ import numpy as np
 
 import catwalk.simulate.walking as walking
 from catwalk.collide.shapes import capsule, sphere
-from catwalk.simulate.metrics import BodySurface, segments_crossing
+from catwalk.geometry.surface import BodySurface, segments_crossing
 
 
 def _tally(x, frames=1, tau=0.1, vx=None, body_v=(0.0, 0.0, 0.0)):

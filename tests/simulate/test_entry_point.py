@@ -110,7 +110,7 @@ def test_between_frames_the_garment_stays_outside_the_body(body_glb, repo_root):
     import numpy as np
 
     from catwalk.exchange.scene import load_scene
-    from catwalk.simulate.metrics import BodySurface, penetration
+    from catwalk.geometry.surface import BodySurface, penetration
 
     res = catwalk.tryon(body_glb, repo_root / SKIRT, **{**SMALL, "h": None})
     scene = load_scene(res.glb())

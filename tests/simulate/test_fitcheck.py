@@ -23,7 +23,7 @@ CHECKS = {"stays_on", "seams_welded", "no_penetration", "strain_within_limit"}
 @pytest.fixture(scope="module")
 def skirt_body():
     """The sample body the skirt's S was drafted for (made once, kept in bodies/generated)."""
-    from catwalk.body.commands import sample_body
+    from catwalk.catalogue.bodies import sample_body
 
     return sample_body("female-S")
 
@@ -134,7 +134,7 @@ def test_a_size_too_small_for_the_body_fails_the_strain_check(dressable_body, sk
 
 def test_a_failed_simulation_is_reported(skirt_body, skirt, monkeypatch):
     import catwalk.simulate.tryon as entry
-    from catwalk.cloth.solver import ClothExplosionError
+    from catwalk.cloth.solvers import ClothExplosionError
 
     def explodes(*a, **k):
         raise ClothExplosionError("the cloth blew up at 0.40 s")
@@ -172,7 +172,7 @@ def test_the_table(monkeypatch, capsys):
              "max_strain": None, "strain_limit": None, "seconds": 0.4,
              "message": "could not be dressed: boom"}]
     monkeypatch.setattr(fitcheck, "run", lambda *a, **k: rows)
-    from catwalk.cli import main
+    from catwalk.cli.main import main
 
     assert main(["garment", "dress-check", "--preset", "fast"]) == 3
     out = capsys.readouterr().out

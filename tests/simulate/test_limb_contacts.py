@@ -6,8 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from catwalk.bench.paper import limb_contacts
-from catwalk.motion.skinning import body_frames
-from catwalk.render.raster import vertex_normals
+from catwalk.body.skinning import body_frames
+from catwalk.geometry.raster import vertex_normals
 
 
 def _cloth_off(body, motion, idx, off=0.005):

@@ -6,14 +6,14 @@ import json
 
 import numpy as np
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 
 
 def test_reported_penetration_is_the_files(tmp_path, repo_root, capsys):
+    from catwalk.body.skinning import body_frames
     from catwalk.exchange.gltf import read_body, read_motion
     from catwalk.exchange.tryon_glb import read_garments
-    from catwalk.motion.skinning import body_frames
-    from catwalk.simulate.metrics import BodySurface, penetration
+    from catwalk.geometry.surface import BodySurface, penetration
 
     body = tmp_path / "male.glb"
     assert main(["body", "make", "--sex", "male", "--height", "1.80", "--bust", "1.00",

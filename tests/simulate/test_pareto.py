@@ -5,7 +5,7 @@ import numpy as np
 
 from catwalk.bench.pareto import format_table, pareto_front, reference_settings, surface_rms
 from catwalk.cloth.scenes import hanging_cloth
-from catwalk.cloth.solver import Solver
+from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.collide import Skips
 from catwalk.simulate import preset
 

@@ -18,8 +18,8 @@ from catwalk.bench.peers.scene import PeerScene, measure, rms_mm, welded
 
 @pytest.fixture(scope="module")
 def scene(dressable_body):
+    from catwalk.catalogue.garments import catalogue_files
     from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
     from catwalk.motion.gait import walk_motion
     from catwalk.simulate import dress, preset
     from catwalk.simulate.walking import walk_body_frames

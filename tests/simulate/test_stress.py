@@ -21,8 +21,8 @@ def test_a_step_beyond_the_stable_one_is_refused_with_a_message():
 
 @pytest.fixture(scope="module")
 def skirt():
+    from catwalk.catalogue.garments import catalogue_files
     from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
 
     return load_garment(next(p for p in catalogue_files() if p.stem == "pencil-skirt"))
 
@@ -81,8 +81,8 @@ def test_the_table_says_what_each_cell_is():
 
 
 def test_the_arm_swing_reaches_forward_as_asked(dressable_body):
+    from catwalk.body.skinning import body_frames
     from catwalk.motion.gait import walk_motion
-    from catwalk.motion.skinning import body_frames
 
     def hand_reach(deg):
         """How far the left arm's vertices get in front of the pelvis' mean, over the walk."""

@@ -6,10 +6,10 @@ import json
 import numpy as np
 import pytest
 
-from catwalk.cli import main
+from catwalk.cli.main import main
 from catwalk.exchange.garment_json import load_garment
+from catwalk.geometry.surface import BodySurface, penetration
 from catwalk.simulate import Cancelled, dress, preset
-from catwalk.simulate.metrics import BodySurface, penetration
 
 SKIRT = "garments/pencil-skirt.json"
 FAST = ["--preset", "fast", "--h", "0.03", "--quiet"]
@@ -55,9 +55,9 @@ def test_dress_cancel(dressable_body, skirt):
 
 
 def test_tryon_cli_end_to_end(body_glb, tmp_path, repo_root, capsys):
+    from catwalk.body.skinning import body_frames
     from catwalk.exchange.gltf import read_body, read_motion, validate
     from catwalk.exchange.tryon_glb import read_garments
-    from catwalk.motion.skinning import body_frames
 
     out = tmp_path / "tryon.glb"
     metrics = tmp_path / "metrics.json"
@@ -96,7 +96,7 @@ def test_tryon_cli_end_to_end(body_glb, tmp_path, repo_root, capsys):
 
 
 def test_tryon_interrupt_leaves_no_file(body_glb, tmp_path, repo_root, monkeypatch):
-    import catwalk.simulate.commands as cmds
+    import catwalk.cli.tryon as cmds
 
     class Stop(cmds.ProgressBar):
         def __call__(self, fraction, stage):
@@ -198,7 +198,7 @@ def test_a_simulation_that_fails_exits_3_and_writes_nothing(body_glb, tmp_path, 
 def test_a_settling_that_blows_up_is_run_again_with_twice_the_resolves(dressable_body, skirt,
                                                                         monkeypatch):
     import catwalk.simulate.dressing as dressing
-    from catwalk.cloth.solver import ClothExplosionError
+    from catwalk.cloth.solvers import ClothExplosionError
 
     settings = preset("fast").with_(h=0.03)
     real, calls = dressing.advance, []

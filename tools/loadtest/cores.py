@@ -14,8 +14,8 @@ import time
 
 import psutil
 
-TREES = ("locust", "catwalk.cli worker", "catwalk serve", "postgres", "redis")
-SPLIT = ("catwalk serve", "catwalk.cli worker")   # reported as (main) and (children)
+TREES = ("locust", "catwalk.cli.main worker", "catwalk serve", "postgres", "redis")
+SPLIT = ("catwalk serve", "catwalk.cli.main worker")   # reported as (main) and (children)
 
 
 def _tree(cmd: str) -> str | None:

@@ -27,8 +27,9 @@ import numpy as np
 from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
 from catwalk.bench.paper import paper_dressed
-from catwalk.cloth import kernels as K
-from catwalk.cloth import solver as S
+from catwalk.cloth import contact_planes, springs, strain_limit
+from catwalk.cloth.solvers.explicit import kernels as K
+from catwalk.cloth.solvers.explicit import solver as S
 from catwalk.simulate import walking as W
 
 
@@ -39,10 +40,10 @@ def phases(snap, repeat: int) -> dict:
     (mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, runs, n_runs_lim, compress, gravity,
      air) = model
     X, V, XP, XPREV, F, R, dirty = work
-    K.to_soa(x, X)
-    K.to_soa(v, V)
+    springs.to_soa(x, X)
+    springs.to_soa(v, V)
     X0, V0 = X.copy(), V.copy()
-    qbuf, dbuf = K._order_buffers(order[0], order[1])
+    qbuf, dbuf = strain_limit._order_buffers(order[0], order[1])
     single = runs[:, 3] == 1
     parts = {"forces (runs)": (np.ascontiguousarray(runs[~single]),
                                int(np.count_nonzero(~single[:n_runs_lim]))),
@@ -65,26 +66,28 @@ def phases(snap, repeat: int) -> dict:
     V1 = V.copy()
     out["predicted positions"] = best_us(lambda: K.predict(X, V, h, XP), repeat)
     out["marking"] = best_us(
-        lambda: K.mark_overstretched(XP, runs, n_runs_lim, rest, limit[1], dirty), repeat)
+        lambda: strain_limit.mark_overstretched(XP, runs, n_runs_lim, rest, limit[1], dirty),
+        repeat)
     out["marked points"] = int(dirty.sum())
 
     def before():
         V[:] = V1
         K.predict(X, V, h, XP)
-        K.mark_overstretched(XP, runs, n_runs_lim, rest, limit[1], dirty)
+        strain_limit.mark_overstretched(XP, runs, n_runs_lim, rest, limit[1], dirty)
 
     def ordered():
         before()
-        K.limit_ordered_velocity(XP, V, w_lim, h, order[0], order[1], order[2], order[3],
-                                 order[4], order[5], order[6], limit[2], limit[3], R,
-                                 limit[4], dirty, order[7], order[8], qbuf, dbuf)
+        strain_limit.limit_ordered_velocity(XP, V, w_lim, h, order[0], order[1], order[2],
+                                            order[3], order[4], order[5], order[6], limit[2],
+                                            limit[3], R, limit[4], dirty, order[7], order[8],
+                                            qbuf, dbuf)
 
     out["ordered pass"] = best_us(ordered, repeat) - best_us(before, repeat)
     out["position update"] = best_us(
         lambda: K.advance_positions(X0.copy(), V1, R, h, True, XPREV), repeat) - copy
     out["contact planes"] = best_us(
-        lambda: K.apply_planes(X0.copy(), V1.copy(), contact[0], contact[1], contact[2]),
-        repeat) - 2 * copy
+        lambda: contact_planes.apply_planes(X0.copy(), V1.copy(), contact[0], contact[1],
+                                            contact[2]), repeat) - 2 * copy
     out["points with a plane"] = len(contact[0])
     bad = np.zeros(2, np.int64)
 

@@ -16,7 +16,9 @@ import numpy as np
 from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
 from catwalk.bench.paper import paper_dressed
-from catwalk.cloth import kernels as K
+from catwalk.cloth import springs
+from catwalk.cloth.solvers.explicit import kernels as K
+from catwalk.cloth.solvers.xpbd import kernels as xpbd_kernels
 
 DT = 1.0 / 300.0   # the walk's XPBD step (ten a 30-fps frame)
 REPEAT = 200       # calls a round
@@ -46,8 +48,8 @@ def sweep_in_storage_order(p, x, w, sa, sb, rest, k, c, lam, dt):
         a = sa[s]
         b = sb[s]
         ikd = 1.0 / (k[s] * dt)
-        lam[s] += K._xpbd_distance(p, x, a, b, w[a], w[b], rest[s], ikd * inv_dt, c[s] * ikd,
-                                   lam[s])
+        lam[s] += xpbd_kernels._xpbd_distance(p, x, a, b, w[a], w[b], rest[s], ikd * inv_dt,
+                                              c[s] * ikd, lam[s])
 
 
 def main() -> None:
@@ -72,7 +74,7 @@ def main() -> None:
     groups = best_us(lambda: sweep_in_storage_order(
         p.copy(), x, w, ca, cb, rest, k, c, lam, DT), REPEAT) - copy
     X = np.ascontiguousarray(x.T)
-    runs, n_runs_lim = K.model_runs(m.spring_a, m.spring_b, m.n_limited)
+    runs, n_runs_lim = springs.model_runs(m.spring_a, m.spring_b, m.n_limited)
     F = np.zeros((3, m.n_points))
     none = np.zeros(0, np.int32)
     V = np.zeros_like(X)

@@ -5,6 +5,9 @@ from __future__ import annotations
 
 import platform
 
+from catwalk.errors import InputError
+from catwalk.simulate import preset
+
 
 def cpu_model() -> str:
     """The CPU's model name from /proc/cpuinfo (or what platform knows)."""
@@ -67,8 +70,6 @@ def add_walk_settings(parser) -> None:
 def walk_settings(args) -> dict:
     """The :func:`add_walk_settings` flags given, as :class:`~catwalk.simulate.Settings`
     fields, checked against the ``balanced`` preset (:class:`~catwalk.errors.InputError`)."""
-    from catwalk.simulate import preset
-
     out = {k: v for k, v in (("plane_band", args.plane_band),
                              ("min_collisions", args.min_collisions),
                              ("max_move", args.max_move),
@@ -82,8 +83,6 @@ def walk_settings(args) -> dict:
 
 def check_walk_seconds(seconds: float) -> None:
     """Refuse a walk length outside 0.5–10 s (:class:`~catwalk.errors.InputError`)."""
-    from catwalk.errors import InputError
-
     if not 0.5 <= seconds <= 10:
         raise InputError(f"--seconds must be within 0.5–10, got {seconds}")
 

@@ -24,7 +24,7 @@ import time
 from catwalk.bench import cpu_model
 from catwalk.cloth.fabrics import get_fabric
 from catwalk.cloth.scenes import paper_size_cloth, shear_energy_ratio
-from catwalk.cloth.solver import INTEGRATORS, METHODS, Solver, max_strain
+from catwalk.cloth.solvers.explicit.solver import INTEGRATORS, METHODS, Solver, max_strain
 from catwalk.errors import InputError
 
 BLOCK = 100

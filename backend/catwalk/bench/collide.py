@@ -17,12 +17,16 @@ import platform
 import time
 
 import numpy as np
+from PIL import Image, ImageDraw
 
 from catwalk.bench import cpu_model
 from catwalk.collide import MODES, Skips, make_collider
+from catwalk.collide.collider import face_parts
 from catwalk.collide.scenes import dress, makehuman_walk, mannequin_walk
+from catwalk.collide.shapes import Mannequin, figure10_pose
 from catwalk.errors import InputError
-from catwalk.render.raster import vertex_normals
+from catwalk.geometry.raster import ortho_view, rasterize, vertex_normals
+from catwalk.render.preview import render_meshes
 
 TARGET_MS = 2.0
 WARMUP = 2
@@ -201,8 +205,6 @@ def format_text(r: dict) -> str:
 def depth_map_figure(body_kind="makehuman", frame=8, size=256):
     """The paper's figure 4: front and back depth maps of the walking body, image mode (whole
     body) and hybrid (torso + head), as an RGB image. Returns (image, caption)."""
-    from PIL import Image, ImageDraw
-
     body = load_body(body_kind, 2, first=frame - 1, warmup=0)
     tiles = []
     for mode, label in (("image", "image mode: whole body"), ("hybrid", "hybrid: torso + head")):
@@ -237,10 +239,6 @@ def depth_map_figure(body_kind="makehuman", frame=8, size=256):
 def figure10_scene():
     """The paper's figure-10 case on the capsule mannequin: (mannequin, posed vertices, front
     panel points 6 mm over the torso, panel triangles). The right forearm crosses the torso."""
-    from catwalk.collide.collider import face_parts
-    from catwalk.collide.shapes import Mannequin, figure10_pose
-    from catwalk.render.raster import ortho_view, rasterize
-
     m = Mannequin(1.0)
     v = m.vertices(figure10_pose())
     fp = face_parts(m.faces, m.parts)
@@ -284,8 +282,6 @@ def figure10_figure(size=(360, 540)):
     forearm across it; the panel after one ``resolve`` in ``image`` mode (shoved out in front
     of the arm) and in ``hybrid`` mode (left alone), seen from the side. Returns
     (image, caption)."""
-    from catwalk.render.preview import render_meshes
-
     m, v, pts, panel_f = figure10_scene()
     lo, hi = v.min(axis=0), v.max(axis=0)
     colours = np.array([[215, 185, 160], [120, 140, 200], [205, 90, 80], [120, 160, 120],

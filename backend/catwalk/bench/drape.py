@@ -17,6 +17,7 @@ import math
 import time
 from pathlib import Path
 
+from catwalk.bench.chart import Chart
 from catwalk.bench.cloth import machine
 from catwalk.cloth.drape import cusick_drape
 from catwalk.cloth.fabrics import PRESETS, get_fabric, load_petrak
@@ -60,8 +61,6 @@ def plot(dcs: dict, h: float, path) -> None:
     """Simulated DC (y) against measured DC (x) for the measured fabrics among ``dcs``: ours
     (blue dots, named) and CLO3D's from the same inputs (grey squares), with y = x and the
     target band ± 0.03."""
-    from catwalk.bench.chart import Chart
-
     rows = against_measured(dcs)["fabrics"]
     hi = max([0.7] + [max(dcs[k], r["measured"], r["clo3d"]) + 0.05 for k, r in rows.items()])
     hi = min(math.ceil(hi * 10) / 10, 1.0)
@@ -113,7 +112,7 @@ def main(args) -> int:
         out[fid] = {"dc": r.dc, "h": r.h, "nodes": r.nodes}
         rows.append((fid, get_fabric(fid).name, r, wall))
         if args.png:
-            from catwalk.cloth.preview import render_cloth
+            from catwalk.render.cloth import render_cloth
 
             render_cloth(r.model, r.state.positions, Path(args.png) / f"drape-{fid}.png",
                          view=30, size=(480, 320), floor=False)

@@ -4,7 +4,7 @@ the errors of each (issue 5's acceptance figures).
 
 For each: wall seconds of the whole dressing (placement, sewing, welding, settling), whether
 it settled, the widest seam still open (0 when every seam is welded), the deepest cloth point
-inside the body (independent check, :mod:`catwalk.simulate.metrics`), and the max strain of
+inside the body (independent check, :mod:`catwalk.geometry.surface`), and the max strain of
 the stretch/shear springs (with the fabric's limit τ and the 99th percentile beside it). A
 garment that cannot be dressed is listed with its error. The kernels are loaded (compiled, on
 a fresh install) by one untimed dressing before any is timed, so the first row's time is a
@@ -18,19 +18,23 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+from PIL import Image
+
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
+from catwalk.errors import CatwalkError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.exchange.scene import garment_vertex_colours
+from catwalk.geometry.surface import BodySurface, penetration
+from catwalk.render.preview import render_meshes, save_png
+from catwalk.simulate import dress, preset
+from catwalk.simulate.tryon import static_frames
+from catwalk.simulate.walking import strain_of
+
 
 def run(garments=None, sizes=None, preset_name: str = "balanced", h: float | None = None,
         log=None, png_dir=None) -> list[dict]:
-    import numpy as np
-
-    from catwalk.body.commands import sample_body
-    from catwalk.errors import CatwalkError
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
-    from catwalk.simulate import dress, preset
-    from catwalk.simulate.metrics import BodySurface, penetration
-    from catwalk.simulate.walking import strain_of
-
     settings = preset(preset_name).with_(h=h)
     files = catalogue_files()
     if garments:
@@ -85,13 +89,6 @@ def run(garments=None, sizes=None, preset_name: str = "balanced", h: float | Non
 
 def _render(body, dressed, path: Path) -> str:
     """Front, side and back of the dressed body, textured as the .glb shows it."""
-    import numpy as np
-    from PIL import Image
-
-    from catwalk.exchange.scene import garment_vertex_colours
-    from catwalk.render.preview import render_meshes, save_png
-    from catwalk.simulate.tryon import static_frames
-
     frames = static_frames(dressed)
     images = [None if tex is None else
               np.asarray(Image.open(tex[0]).convert("RGBA"), dtype=np.float64) / 255.0

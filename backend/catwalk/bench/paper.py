@@ -5,7 +5,7 @@ spacing whose sewn cloth has the number of points closest to the paper's 3,372, 
 MakeHuman base body walking (the catwalk gait). It is dressed once (our pipeline:
 place, sew, weld, settle) and then walked with each collider mode from the same drape. Every
 speed comes with its error: max and 99th-percentile penetration (independent check,
-:mod:`catwalk.simulate.metrics`) and max strain. The paper's figure-10 case (a forearm across
+:mod:`catwalk.geometry.surface`) and max strain. The paper's figure-10 case (a forearm across
 the torso, a panel over it) is measured on the capsule mannequin: how far one resolve moves the
 panel in image space against hybrid.
 
@@ -28,7 +28,39 @@ import json
 import math
 import time
 
-from catwalk.bench import walk_errors
+import numpy as np
+
+from catwalk.bench import (
+    add_output_flags,
+    add_walk_seconds,
+    add_walk_settings,
+    check_walk_seconds,
+    cpu_model,
+    walk_errors,
+    walk_settings,
+)
+from catwalk.bench.collide import figure10_displacement
+from catwalk.body.rig import measured_base_body
+from catwalk.body.skinning import (
+    blended_matrices,
+    body_frames,
+    motion_matrices,
+    rigid_deviation,
+)
+from catwalk.body.types import PART_TORSO
+from catwalk.catalogue.garments import catalogue_files
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.console import ProgressBar
+from catwalk.errors import InputError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.geometry.surface import BodySurface
+from catwalk.motion.gait import walk_motion
+from catwalk.simulate import dress, preset
+from catwalk.simulate.fidelity import hem_points, hem_swing, nudged, vertex_rms
+from catwalk.simulate.garment_cloth import garment_cloth, weld
+from catwalk.simulate.tryon import tryon
+from catwalk.simulate.walking import cloth_solver, walk
+from catwalk.simulate.walking import walk as walk_on
 
 PAPER = {"machine": "Pentium 4, 2.8 GHz (2007)", "points": 3372, "springs": 18623,
          "sewing_s": 2.264, "image_ms_per_frame": 405.0, "hybrid_ms_per_frame": 557.0}
@@ -39,8 +71,6 @@ TARGET = {"hybrid_ms_per_frame": 5.0, "max_penetration_mm": 2.0, "sewing_s": 0.5
 def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float, int]:
     """The grid spacing whose sewn (welded) dress has the number of points closest to
     ``target`` (bisection: points fall as h grows)."""
-    from catwalk.simulate.garment_cloth import garment_cloth, weld
-
     def points(h):
         m = garment_cloth(garment, body, size, h=h).model
         return weld(m)[0].n_points
@@ -62,11 +92,6 @@ def choose_h(garment, body, size, target: int = PAPER["points"]) -> tuple[float,
 def paper_inputs(seconds: float):
     """The paper's scene's inputs: the catalogue dress, the female base body, its catwalk walk
     of ``seconds`` (what ``bench paper``, ``bench pareto`` and ``bench peers`` all simulate)."""
-    from catwalk.body.rig import measured_base_body
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
-    from catwalk.motion.gait import walk_motion
-
     garment = load_garment(next(p for p in catalogue_files() if p.stem == "dress"))
     body = measured_base_body(0.0)
     return garment, body, walk_motion(body, seconds, style="catwalk")
@@ -76,8 +101,6 @@ def paper_dressed(seconds: float, size: str = "M", progress=None):
     """The paper's scene dressed: ``(body, motion, settings, dressed)`` — the dress ``size``
     sewn on the body by ``balanced`` at the grid spacing of the paper's point count
     (:func:`choose_h`), the settings the walks start from."""
-    from catwalk.simulate import dress, preset
-
     garment, body, motion = paper_inputs(seconds)
     h, _ = choose_h(garment, body, size)
     settings = preset("balanced").with_(h=h)
@@ -88,12 +111,6 @@ def paper_dressed(seconds: float, size: str = "M", progress=None):
 def run(seconds: float = 2.0, modes=("image", "hybrid", "object"), size: str = "M",
         progress=None, threads: int = 2, walk: dict | None = None,
         reference: bool = True) -> dict:
-    from catwalk.bench import cpu_model
-    from catwalk.bench.collide import figure10_displacement
-    from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.simulate import dress, preset
-    from catwalk.simulate.walking import walk as walk_on
-
     preset("balanced").with_(**(walk or {}))   # the walks' settings checked before any work
     garment, body, motion = paper_inputs(seconds)
     h, _ = choose_h(garment, body, size)
@@ -157,7 +174,7 @@ def _walk_figures(w) -> dict:
 
 
 #: m. A limb vertex within this of its dominant bone's rigid motion over the walk moves with
-#: that bone (:func:`catwalk.motion.skinning.rigid_deviation`)
+#: that bone (:func:`catwalk.body.skinning.rigid_deviation`)
 RIGID_TOL = 0.001
 #: m. A cloth point this near a limb's triangle (its nearest of the body's) touches that limb
 LIMB_REACH = 0.02
@@ -176,17 +193,8 @@ def limb_contacts(body, motion, w) -> dict:
     within ``REST_REACH``, the point carried back to the rest pose by the inverse of its
     nearest vertex's blended transform, its distance to the rest body there against its
     distance to the posed body (mm: p50, p90, p99, max; the share within 1 mm)."""
-    import numpy as np
-    from scipy.spatial import cKDTree
+    from scipy.spatial import cKDTree  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
-    from catwalk.body.types import PART_TORSO
-    from catwalk.motion.skinning import (
-        blended_matrices,
-        body_frames,
-        motion_matrices,
-        rigid_deviation,
-    )
-    from catwalk.simulate.metrics import BodySurface
 
     # the recorded frames' body (the walk's own, less the blend into it)
     verts = body_frames(body, motion)[0].astype(np.float64)
@@ -237,8 +245,6 @@ def reference_walk_settings(walking, steps_per_frame: int):
 def explicit_steps_per_frame(dressed, walking, fps: float) -> int:
     """The explicit solver's steps in a frame of the walk (its stable step, whatever the
     walk's own integrator)."""
-    from catwalk.simulate.walking import cloth_solver
-
     dt = cloth_solver(dressed, walking.with_(integrator="explicit")).dt_max
     return int(math.ceil((1.0 / fps) / dt))
 
@@ -254,10 +260,6 @@ def _against_reference(body, motion, dressed, walking, default_walk, default: di
     distance and the hem's swing (:mod:`catwalk.simulate.fidelity`) — beside ``noise_mm``,
     the same distance between the default walk and itself started from the drape moved
     0.1 mm (the cloth is chaotic: nearer than that is no difference)."""
-    from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.simulate.fidelity import hem_points, hem_swing, nudged, vertex_rms
-    from catwalk.simulate.walking import walk as walk_on
-
     settings = reference_walk_settings(walking,
                                        explicit_steps_per_frame(dressed, walking, motion.fps))
     block = {"integrator": walking.integrator, "collider": walking.collider,
@@ -296,8 +298,6 @@ def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
     h, the default collider) through the library — dress, walk ``seconds``, the .glb's bytes —
     timed with its parts. The caller has dressed and walked in this process already (numba's
     kernels loaded, as in a worker): :func:`run` has."""
-    from catwalk.simulate.tryon import tryon
-
     t0 = time.perf_counter()
     t = tryon(body, garment, size=size, seconds=seconds, measure=False)
     t1 = time.perf_counter()
@@ -317,11 +317,6 @@ def warm_tryon(body, garment, size: str, seconds: float = 4.0) -> dict:
 def _threaded(body, motion, dressed, settings, threads: int, one) -> dict:
     """The same walk with the collider's passes on ``threads`` threads: its ms per
     frame (``ms_per_frame_2cores`` for 2) and whether it gave the same cloth, bit for bit."""
-    import numpy as np
-
-    from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.simulate.walking import walk
-
     if threads < 2:
         return {}
     key = "ms_per_frame_2cores" if threads == 2 else f"ms_per_frame_{threads}threads"
@@ -407,8 +402,6 @@ def _tryon_line(r: dict) -> str:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags, add_walk_seconds, add_walk_settings
-
     p = bench.add_parser(
         "paper", help="the seed's table side by side: sewing the dress, walking it with the "
         "image-space and hybrid colliders (with penetration and strain)",
@@ -430,10 +423,6 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import check_walk_seconds, walk_settings
-    from catwalk.errors import InputError
-    from catwalk.simulate.commands import ProgressBar
-
     check_walk_seconds(args.seconds)
     if not 1 <= args.threads <= 64:
         raise InputError(f"--threads must be within 1–64, got {args.threads}")

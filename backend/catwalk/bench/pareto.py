@@ -31,9 +31,24 @@ import itertools
 import json
 import time
 
-from catwalk.bench import walk_errors
+import numpy as np
+
+from catwalk.bench import (
+    add_output_flags,
+    add_walk_seconds,
+    check_walk_seconds,
+    cpu_model,
+    progress_lines,
+    walk_errors,
+)
+from catwalk.bench.chart import Chart
+from catwalk.bench.paper import paper_inputs
 from catwalk.collide import Skips
-from catwalk.simulate.fidelity import NUDGE
+from catwalk.errors import CatwalkError
+from catwalk.geometry.surface import BodySurface
+from catwalk.simulate import dress, preset
+from catwalk.simulate.fidelity import NUDGE, nudged
+from catwalk.simulate.walking import walk
 
 REFERENCE_H = 0.01
 #: the collider's skips (:class:`~catwalk.collide.collider.Skips`), each switched off alone in
@@ -83,10 +98,6 @@ def reference_settings(base):
 def surface_rms(a_pos, a_tri, b_pos, b_tri) -> float:
     """RMS over frames and vertices of the distance from each cloth's vertices to the other
     cloth's surface (m), both directions pooled."""
-    import numpy as np
-
-    from catwalk.simulate.metrics import BodySurface
-
     sa = BodySurface(a_tri, a_pos.shape[1])
     sb = BodySurface(b_tri, b_pos.shape[1])
     total, count = 0.0, 0
@@ -113,21 +124,14 @@ class _Scene:
     """The paper's scene: each run dresses the garment with its settings and walks it."""
 
     def __init__(self, seconds: float):
-        from catwalk.bench.paper import paper_inputs
-
         self.garment, self.body, self.motion = paper_inputs(seconds)
 
     def dress(self, settings):
-        from catwalk.simulate import dress
-
         return dress(self.body, self.garment, "M", settings=settings)
 
     def walk(self, dressed, settings, nudge: float = 0.0) -> dict:
         """The walk from ``dressed`` (moved ``nudge`` metres along x first, on a copy:
         :func:`catwalk.simulate.fidelity.nudged`)."""
-        from catwalk.simulate.fidelity import nudged
-        from catwalk.simulate.walking import walk
-
         if nudge:
             dressed = nudged(dressed, nudge)
         w = walk(self.body, self.motion, dressed, settings)
@@ -140,10 +144,6 @@ class _Scene:
 
 def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "accurate"),
         progress=None) -> dict:
-    from catwalk.bench import cpu_model
-    from catwalk.errors import CatwalkError
-    from catwalk.simulate import preset
-
     progress = progress or (lambda what: None)
     scene = _Scene(seconds)
     ref_settings = reference_settings(preset("balanced"))
@@ -221,8 +221,6 @@ def format_table(r: dict) -> str:
 def plot(r: dict, path) -> None:
     """Time (x, log) against RMS error (y): every run a dot, the front joined, the presets
     named."""
-    from catwalk.bench.chart import Chart
-
     runs = [x for x in r["runs"] if "failed" not in x]
     ts = [x["ms_per_frame"] for x in runs]
     es = [x["rms_mm"] for x in runs] + [r["noise_mm"]]
@@ -245,8 +243,6 @@ def plot(r: dict, path) -> None:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags, add_walk_seconds
-
     p = bench.add_parser(
         "pareto", help="run time against error: each setting of the paper's scene against a "
         "4×-finer object-space reference, with the Pareto front",
@@ -262,8 +258,6 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import check_walk_seconds, progress_lines
-
     check_walk_seconds(args.seconds)
     r = run(args.seconds, args.grid,
             progress=progress_lines(args))

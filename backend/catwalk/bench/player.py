@@ -28,7 +28,10 @@ import sys
 import tempfile
 from pathlib import Path
 
+from catwalk.bench import cpu_model
+from catwalk.bench.service import _start, _stop, free_port
 from catwalk.errors import InputError, SetupError
+from catwalk.service.client import Client
 
 CHROMIUM = os.environ.get("CATWALK_TEST_CHROMIUM", "/usr/bin/chromium")
 ARGS = ["--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-sandbox",
@@ -85,11 +88,10 @@ def _measure(browser, url: str, job_id: str, frames: int) -> dict:
 
 
 def run(seconds: list[float], frames: int = 240, log=None) -> dict:
-    from playwright.sync_api import sync_playwright
+    from playwright.sync_api import (
+        sync_playwright,  # deferred: playwright: only the browser benchmark needs it
+    )
 
-    from catwalk.bench import cpu_model
-    from catwalk.bench.service import _start, _stop, free_port
-    from catwalk.service.client import Client
 
     say = log or (lambda m: None)
     tmp = Path(tempfile.mkdtemp(prefix="catwalk-bench-player-"))

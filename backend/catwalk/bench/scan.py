@@ -15,19 +15,23 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.bench.cloth import machine
+from catwalk.body import synthetic as sy
+from catwalk.body.from_scan import body_from_scan
+from catwalk.body.measure import measure_body
+from catwalk.body.rig import measured_base_body
+from catwalk.body.skinning import body_frames
+from catwalk.body.types import GIRTHS
 from catwalk.errors import InputError
+from catwalk.exchange.scan import MAX_FACES, load_scan
+from catwalk.geometry.surface import BodySurface
+from catwalk.motion.gait import walk_folds, walk_motion
+from catwalk.render.preview import render_meshes, save_png
 
 FACES = (50_000, 300_000, 2_000_000)
 
 
 def run_one(case_name: str, faces: int, folder: Path, seed: int = 0, png: str | None = None
             ) -> dict:
-    from catwalk.body import synthetic as sy
-    from catwalk.body.from_scan import body_from_scan
-    from catwalk.body.measure import measure_body
-    from catwalk.body.types import GIRTHS
-    from catwalk.exchange.scan import MAX_FACES, load_scan
-
     truth = sy.true_body(sy.case(case_name))
     v, f = sy.scan_of(truth, faces=faces, seed=seed)
     if len(f) > MAX_FACES:   # subdivision overshoots a little: keep within what a scan may be
@@ -59,9 +63,6 @@ def run_one(case_name: str, faces: int, folder: Path, seed: int = 0, png: str | 
 
 def walk_folds_of(body) -> int:
     """Triangle pairs the body's 2 s walk folds over at worst (:func:`walk_folds`)."""
-    from catwalk.motion.gait import walk_folds, walk_motion
-    from catwalk.motion.skinning import body_frames
-
     motion = walk_motion(body, 2.0, speed=1.2, fps=30)
     return walk_folds(body, body_frames(body, motion)[0])
 
@@ -69,8 +70,6 @@ def walk_folds_of(body) -> int:
 @lru_cache(maxsize=2)
 def template_walk_folds(sex: str) -> int:
     """The same for the MakeHuman template of that sex (its skinning's own creases)."""
-    from catwalk.body.rig import measured_base_body
-
     return walk_folds_of(measured_base_body(0.0 if sex == "female" else 1.0))
 
 
@@ -88,9 +87,6 @@ def distance_colours(mm: np.ndarray, top: float = 4.0) -> np.ndarray:
 def figure(scan, body, truth_v, truth_f, path, size=(300, 600)) -> None:
     """The scan, the registered body, and the body coloured by its distance to the true
     surface (blue 0 → red ≥ 4 mm), front and side, side by side."""
-    from catwalk.render.preview import render_meshes, save_png
-    from catwalk.simulate.metrics import BodySurface
-
     mm = np.abs(BodySurface(truth_f, len(truth_v)).signed_distance(truth_v, body.vertices))
     meshes = [(scan.vertices, scan.faces, (0.75, 0.78, 0.70)),
               (body.vertices, body.faces, (0.80, 0.66, 0.56)),

@@ -20,18 +20,28 @@ answered from the cache). Reported:
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
+import signal
+import socket
 import statistics
+import subprocess
 import sys
 import tempfile
 import threading
 import time
 from pathlib import Path
 
-from catwalk.bench import check_walk_seconds
+from catwalk.bench import check_walk_seconds, cpu_model
+from catwalk.config import _cores, get_config
 from catwalk.errors import InputError, SimulationError
+from catwalk.exchange.compress import compress_bytes
+from catwalk.service.client import Client
+from catwalk.service.jobs.tryon import preview_png
+from catwalk.service.jobs.worker import warm_up
+from catwalk.simulate.tryon import tryon
 
 GARMENT = "pencil-skirt"
 PRESET = "fast"
@@ -48,32 +58,24 @@ def _percentile(xs: list[float], q: float) -> float:
 
 
 def free_port() -> int:
-    import socket
-
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         return sock.getsockname()[1]
 
 
 def _start(port: int, workers: int, storage: Path):
-    import subprocess
-
     env = {k: v for k, v in os.environ.items() if not k.startswith("CATWALK_")
            or k in ("CATWALK_DATA_DIR", "CATWALK_DATA", "CATWALK_CATALOGUE_DIR",
                     "CATWALK_NODE_TOOLS_DIR", "CATWALK_BODIES_DIR")}
     env["CATWALK_STORAGE_DIR"] = str(storage)
     log = open(storage.parent / "serve.log", "wb")
-    proc = subprocess.Popen([sys.executable, "-m", "catwalk.cli", "serve", "--port", str(port),
+    proc = subprocess.Popen([sys.executable, "-m", "catwalk.cli.main", "serve", "--port", str(port),
                              "--workers", str(workers)], env=env, stdout=log,
                             stderr=subprocess.STDOUT, start_new_session=True)
     return proc, log
 
 
 def _stop(proc) -> None:
-    import contextlib
-    import signal
-    import subprocess
-
     proc.send_signal(signal.SIGINT)
     try:
         proc.wait(40)
@@ -86,8 +88,6 @@ def _stop(proc) -> None:
 
 def _through_api(url: str, body_id: str, requests: list[dict]) -> tuple[list[float], float]:
     """Ask for every try-on at once, each from its own thread; (latencies, wall seconds)."""
-    from catwalk.service.client import Client
-
     lat: list[float | None] = [None] * len(requests)
     errors: list[str] = []
 
@@ -142,15 +142,11 @@ def _cancel_latency(api, body_id: str) -> dict:
 
 def _through_library(body: bytes, garment: Path, requests: list[dict]) -> float:
     """The same try-ons one after another in this process, with a worker's after-work."""
-    import catwalk
-    from catwalk.exchange.compress import compress_bytes
-    from catwalk.service.worker import preview_png, warm_up
-
     warm_up()   # what a worker does before its first job: every kernel loaded
     t0 = time.perf_counter()
     for req in requests:
-        res = catwalk.tryon(body, garment, preset=req["preset"], seconds=req["seconds"],
-                            garment_id=GARMENT)
+        res = tryon(body, garment, preset=req["preset"], seconds=req["seconds"],
+                    garment_id=GARMENT)
         compress_bytes(res.glb())
         preview_png(res)
     return time.perf_counter() - t0
@@ -168,10 +164,6 @@ def run(tryons: int = 4, workers: int = 1, seconds: float = 2.0, log=None) -> di
 
 
 def _run(tmp: Path, requests, tryons, workers, seconds, say) -> dict:
-    from catwalk.bench import cpu_model
-    from catwalk.config import _cores, get_config
-    from catwalk.service.client import Client
-
     port = free_port()
     url = f"http://127.0.0.1:{port}"
     proc, logf = _start(port, workers, tmp / "storage")

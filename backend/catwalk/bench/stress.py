@@ -37,8 +37,31 @@ from __future__ import annotations
 
 import json
 import time
+from dataclasses import replace
 
-from catwalk.bench import walk_errors
+import numpy as np
+
+from catwalk.bench import (
+    add_output_flags,
+    add_walk_settings,
+    cpu_model,
+    progress_lines,
+    walk_errors,
+    walk_settings,
+)
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
+from catwalk.cloth.fabrics import resolve_fabric
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.cloth.solvers.explicit.solver import Solver
+from catwalk.collide import MODES, make_collider
+from catwalk.errors import CatwalkError, InputError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.motion.gait import walk_motion
+from catwalk.simulate import dress, preset
+from catwalk.simulate.settings import PRESETS
+from catwalk.simulate.stepping import collide_and_floor
+from catwalk.simulate.walking import walk
 
 STEP_FACTORS = (0.5, 1.0, 1.1, 2.0, 4.0)
 STIFFNESS_FACTORS = (0.1, 1.0, 10.0)
@@ -66,10 +89,6 @@ def blow_up_time(body, dressed, safety: float, seconds: float = 0.5) -> dict:
     """The dressed garment stepped on the still body at ``safety`` × its stable step with
     the guard off: when (simulated seconds) it blew up, or that it did not within
     ``seconds``."""
-    from catwalk.cloth.solver import ClothExplosionError, Solver
-    from catwalk.collide import make_collider
-    from catwalk.simulate.stepping import collide_and_floor
-
     model, state = dressed.model, dressed.state.copy()
     solver = Solver(model, "ordered", held_fixed=False, allow_unstable=True)
     dt = safety * solver.dt_stable
@@ -95,14 +114,6 @@ def cell(body, garment, size: str, settings, *, fabric=None, speed: float = BASE
          walk_settings: dict | None = None) -> dict:
     """Dress and walk one variant; its errors (module docstring). ``walk_settings``: fields
     of ``settings`` changed for the walk alone (not the dressing)."""
-    import numpy as np
-
-    from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.errors import CatwalkError, InputError
-    from catwalk.motion.gait import walk_motion
-    from catwalk.simulate import dress
-    from catwalk.simulate.walking import walk
-
     try:
         settings = settings.check()
         walking = settings.with_(**(walk_settings or {}))
@@ -154,11 +165,6 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
     every pair of their values. The garment axis walks each catalogue garment in each of
     ``sizes`` it has (the default scene's garment in M, or its middle size). A cell asked twice
     (the default scene is each axis's 1× cell) is simulated once."""
-    from catwalk.bench import cpu_model
-    from catwalk.errors import InputError
-    from catwalk.garment.catalogue import catalogue_files
-    from catwalk.simulate import dress, preset
-
     progress = progress or (lambda what: None)
     files = {p.stem: p for p in catalogue_files()}
     if garment_name not in files:
@@ -226,15 +232,11 @@ class _Scene:
         self.garments, self.bodies, self.memo = {}, {}, {}
 
     def garment(self, name):
-        from catwalk.exchange.garment_json import load_garment
-
         if name not in self.garments:
             self.garments[name] = load_garment(self.files[name])
         return self.garments[name]
 
     def body(self, g, size):
-        from catwalk.body.commands import sample_body
-
         name = g.fit.get(size)
         if name not in self.bodies:
             self.bodies[name] = sample_body(name)
@@ -244,10 +246,6 @@ class _Scene:
              seconds=1.0) -> dict:
         """:func:`cell` for the garment ``name`` in ``size`` with each axis at its factor
         (``arms``: the swing amplitude in degrees)."""
-        from dataclasses import replace
-
-        from catwalk.garment.check import resolve_fabric
-
         key = (name, size, step, stiffness, speed, arms, seconds)
         if key not in self.memo:
             g = self.garment(name)
@@ -314,10 +312,6 @@ def grid_table(r: dict) -> list[str]:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags, add_walk_settings
-    from catwalk.collide import MODES
-    from catwalk.simulate.settings import PRESETS
-
     p = bench.add_parser(
         "stress", help="stability across the range: time step, stiffness, walking speed, "
         "arm swing, every garment, a long walk (explosions, NaN, energy, penetration, strain)",
@@ -344,9 +338,6 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import progress_lines, walk_settings
-    from catwalk.errors import InputError
-
     if not 1.0 <= args.long_seconds <= 400.0:
         raise InputError(f"--long-seconds must be within 1–400, got {args.long_seconds}")
     axes = args.axes if args.axes is not None else (() if args.grid else ALL_AXES)

@@ -30,9 +30,14 @@ from scipy.spatial import cKDTree
 
 from catwalk.body import makehuman as mh
 from catwalk.body import register as reg
+from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
+from catwalk.body.make import BodyRequest, fit_shape
+from catwalk.body.measure import measure_body
+from catwalk.body.rig import SKIN_RECIPE, build_rig, build_skeleton
 from catwalk.body.types import MEASUREMENTS, Body
 from catwalk.errors import Cancelled, InputError
-from catwalk.mesh import compact, components, face_cross
+from catwalk.geometry.mesh import compact, components, face_cross
+from catwalk.geometry.surface import BodySurface
 
 FLOOR_HEIGHT = 0.015        # m: a floor's faces lie this low, level (|cos| of tilt ≥ 0.95)
 FLOOR_LEVEL = 0.95
@@ -54,8 +59,6 @@ def infer_sex(m: dict) -> str:
 
 def measure_scan(vertices, faces, sex: str | None) -> tuple[dict, str]:
     """The scan's measurements and sex (told, or inferred from its shape)."""
-    from catwalk.body.measure import measure_body
-
     try:
         m = measure_body(vertices, faces, sex=sex)
         if sex is None:
@@ -92,8 +95,6 @@ def surface_distances(body_v: np.ndarray, body_f: np.ndarray, target: reg.Target
     """Distances scan → body (every scan vertex) and body → scan (body vertices whose closest
     scan point is on the scan's real surface, not on a hole's rim), mm; and the body's
     coverage (the share of its vertices the scan covers)."""
-    from catwalk.simulate.metrics import BodySurface
-
     _, d_sb, _, _ = BodySurface(body_f, len(body_v)).closest(body_v, target.vertices)
     _, d_bs, _, rim = target.closest(body_v)
     covered = ~rim
@@ -120,8 +121,6 @@ class _Clock:
 
 
 def _fit_template(m: dict, sex: str):
-    from catwalk.body.make import BodyRequest, fit_shape
-
     req = BodyRequest(sex=sex, height=m["height"], bust=m["bust"], waist=m["waist"],
                       hips=m["hips"])
     try:
@@ -143,9 +142,6 @@ def _hand_vertices(skeleton, joints, weights) -> np.ndarray:
 
 def _register(full: np.ndarray, target: reg.Target, clock: _Clock):
     """The full template registered to the target: (full vertices, arm angles in degrees)."""
-    from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
-    from catwalk.body.rig import build_rig, build_skeleton
-
     faces = mh.load_base_mesh().body_triangles
     n = mh.BODY_VERTEX_COUNT
     skeleton, joints, weights, parts = build_rig(full)
@@ -259,9 +255,6 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
     is told as each stage ends (seconds since ``t0``, a ``time.perf_counter()`` reading;
     default: the call); ``cancel()`` is asked after each stage and before every non-rigid
     round (:class:`~catwalk.errors.Cancelled`)."""
-    from catwalk.body.measure import measure_body
-    from catwalk.body.rig import SKIN_RECIPE, build_rig
-
     clock = _Clock(progress, cancel, t0)
     scan_faces, floor = without_floor(scan.vertices, scan.faces)
     vertices, scan_faces = without_islands(scan.vertices, scan_faces)

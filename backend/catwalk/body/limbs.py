@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from catwalk.body.skinning import skin
 from catwalk.body.types import Skeleton
-from catwalk.motion.quat import rot_x, rot_z
-from catwalk.motion.skinning import skin
+from catwalk.geometry.quat import rot_x, rot_z
 
 ARM_PARAMETERS = ("abduction", "flexion", "elbow", "wrist_flexion", "wrist_abduction")
 

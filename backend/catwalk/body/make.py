@@ -25,8 +25,11 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from catwalk.body import makehuman as mh
+from catwalk.body.measure import measure_body
+from catwalk.body.rig import SKIN_RECIPE, build_rig
 from catwalk.body.types import Body
 from catwalk.errors import InputError
+from catwalk.geometry.mesh import unique_edges
 
 # Adult population ranges accepted for a request (metres); outside: a clear error.
 RANGES = {
@@ -191,10 +194,6 @@ def girth_rings(gender: float) -> GirthRings:
     mean height and taking the convex hull of the cut gives a cheap girth that moves smoothly
     with the shape and agrees with the full measurement to a few millimetres.
     """
-    from catwalk.body.measure import measure_body
-    from catwalk.body.rig import build_rig
-    from catwalk.mesh import unique_edges
-
     space = shape_space(gender)
     sex = "female" if gender < 0.5 else "male"
     full = shaped_vertices(space, 0.5, 0.5, {}, None)
@@ -217,7 +216,9 @@ def girth_rings(gender: float) -> GirthRings:
 
 def _slice_girth(v: np.ndarray, edges: np.ndarray, y: float) -> float:
     """Convex-hull perimeter of the horizontal cut of the edges at height ``y``."""
-    from scipy.spatial import ConvexHull
+    from scipy.spatial import (
+        ConvexHull,  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    )  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
     a, b = v[edges[:, 0]], v[edges[:, 1]]
     cut = (a[:, 1] - y) * (b[:, 1] - y) < 0
@@ -238,8 +239,6 @@ def fit_shape(req: BodyRequest, measure=None) -> tuple[np.ndarray, dict]:
     the waist at the least girth, …) and the ring targets are shifted by the difference, until
     the measured girths are within 4 mm — usually 2–3 outer rounds.
     """
-    from catwalk.body.measure import measure_body
-
     measure = measure or measure_body
     req.check()
     gender = 0.0 if req.sex == "female" else 1.0
@@ -307,9 +306,6 @@ def make_body(sex: str, height: float, bust: float | None = None, waist: float |
               hips: float | None = None, underbust: float | None = None,
               rig: str = "game_engine") -> Body:
     """A rigged body (glTF metres, feet on y = 0, facing +Z) fitted to the measurements."""
-    from catwalk.body.measure import measure_body
-    from catwalk.body.rig import SKIN_RECIPE, build_rig
-
     req = BodyRequest(sex=sex, height=height, bust=bust, waist=waist, hips=hips,
                       underbust=underbust)
     full, report = fit_shape(req)

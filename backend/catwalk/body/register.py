@@ -24,10 +24,12 @@ from scipy.optimize import minimize
 from scipy.sparse.linalg import factorized
 from scipy.spatial import cKDTree
 
+from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
 from catwalk.errors import Cancelled
-from catwalk.mesh import compact, edge_keys, folds, smooth_pairs, unique_edges
-from catwalk.render.raster import vertex_normals
-from catwalk.simulate.metrics import BodySurface
+from catwalk.geometry.mesh import compact, edge_keys, folds, smooth_pairs, unique_edges
+from catwalk.geometry.quat import axis_angle
+from catwalk.geometry.raster import vertex_normals
+from catwalk.geometry.surface import BodySurface
 
 # (stiffness, iterations, reject beyond (m)): stiff to supple
 SCHEDULE = ((200.0, 3, 0.05), (50.0, 3, 0.03), (15.0, 3, 0.02), (5.0, 3, 0.015),
@@ -98,8 +100,6 @@ def _similarity_step(x: np.ndarray, q: np.ndarray, n: np.ndarray, w: np.ndarray)
     """One point-to-plane step: the small scale δ, rotation ω and move t minimising
     Σ w (n · ((1 + δ)(x − c) + ω × (x − c) + c + t − q))² (c: the weighted centroid).
     Returns (s, R, t) with x' = s R (x − c) + c + t, i.e. s R x + (c + t − s R c)."""
-    from catwalk.motion.quat import axis_angle
-
     c = (w @ x) / w.sum()
     r = x - c
     a = np.concatenate([np.sum(n * r, 1)[:, None], np.cross(r, n), n], axis=1)   # (N, 7)
@@ -140,8 +140,6 @@ def fit_arms(v: np.ndarray, skeleton, joints, weights, parts, target: Target,
     """Each arm's pose (:data:`catwalk.body.limbs.ARM_PARAMETERS`, radians) that brings the
     template's arm onto the scan's: the shoulder first (a coarse grid, then Nelder–Mead), then
     shoulder, elbow and wrist together. Returns (posed vertices, side -> parameters)."""
-    from catwalk.body.limbs import ARM_PARAMETERS, pose_arms
-
     angles = {}
     world = skeleton.rest_world          # once: the cost below is evaluated hundreds of times
     for side, part in (("l", 1), ("r", 2)):

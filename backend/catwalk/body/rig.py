@@ -29,17 +29,28 @@ from functools import lru_cache
 import numpy as np
 import scipy.sparse as sp
 
-from catwalk.body.makehuman import BODY_VERTEX_COUNT, body_triangles, load_base_mesh, load_json
+from catwalk.body.makehuman import (
+    BODY_VERTEX_COUNT,
+    MacroSliders,
+    apply_targets,
+    body_triangles,
+    load_base_mesh,
+    load_json,
+    macro_weights,
+    obj_to_gltf,
+)
+from catwalk.body.measure import measure_body
 from catwalk.body.types import (
     PART_LEFT_ARM,
     PART_LEFT_LEG,
     PART_RIGHT_ARM,
     PART_RIGHT_LEG,
     PART_TORSO,
+    Body,
     Skeleton,
 )
 from catwalk.errors import InputError
-from catwalk.mesh import unique_edges, vertex_adjacency
+from catwalk.geometry.mesh import unique_edges, vertex_adjacency
 
 RIGS = ("game_engine", "default", "default_no_toes", "cmu_mb")
 
@@ -276,14 +287,6 @@ def default_positions_gltf(rig: str = "game_engine"):
 def rigged_base_body(gender: float = 0.5, rig: str = "game_engine"):
     """The MakeHuman base body with average macro sliders (``gender`` 0 female … 1 male),
     rigged, in glTF metres with feet on y = 0: a quick rigged body for tests and benchmarks."""
-    from catwalk.body.makehuman import (
-        MacroSliders,
-        apply_targets,
-        macro_weights,
-        obj_to_gltf,
-    )
-    from catwalk.body.types import Body
-
     full = obj_to_gltf(apply_targets(macro_weights(MacroSliders(gender=gender))))
     shift = -full[:BODY_VERTEX_COUNT, 1].min()
     full[:, 1] += shift
@@ -296,8 +299,6 @@ def rigged_base_body(gender: float = 0.5, rig: str = "game_engine"):
 def measured_base_body(gender: float = 0.0, rig: str = "game_engine"):
     """:func:`rigged_base_body` with its landmarks and measurements (≈ 1 s): a body that
     garments can be placed on, for tests and benchmarks."""
-    from catwalk.body.measure import measure_body
-
     body = rigged_base_body(gender, rig)
     sex = "female" if gender < 0.5 else "male"
     m = measure_body(body.vertices, body.faces, sex=sex)

@@ -24,6 +24,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from catwalk.body import makehuman as mh
+from catwalk.body.limbs import pose_arms
+from catwalk.body.rig import build_rig
+from catwalk.geometry.mesh import compact, face_normals
+from catwalk.geometry.raster import vertex_normals
+from catwalk.geometry.surface import BodySurface
 
 # glTF metres (+Y up, facing +Z) → a scanner's file: millimetres, +Z up, facing −Y (a rotation)
 FILE_FROM_GLTF = np.array([[1.0, 0.0, 0.0, 0.0],
@@ -76,9 +81,6 @@ class TrueBody:
 
 def true_body(c: ScanCase) -> TrueBody:
     """The case's MakeHuman body, shaped and posed (see the module's text)."""
-    from catwalk.body.limbs import pose_arms
-    from catwalk.body.rig import build_rig
-
     weights = mh.macro_weights(mh.MacroSliders(**c.sliders))
     weights.update(mh.modifier_weights(c.modifiers))
     full = mh.obj_to_gltf(mh.apply_targets(weights))
@@ -99,7 +101,7 @@ def true_body(c: ScanCase) -> TrueBody:
 
 def _subdivide(v, f, faces_wanted):
     """Midpoint subdivision of the longest edges until about ``faces_wanted`` faces."""
-    import trimesh
+    import trimesh  # deferred: trimesh loads in ≈ 0.4 s; only scan files need it
 
     area = float(trimesh.Trimesh(v, f, process=False).area)
     edge = np.sqrt(4.0 * area / (np.sqrt(3.0) * faces_wanted)) * 1.68
@@ -108,8 +110,6 @@ def _subdivide(v, f, faces_wanted):
 
 def _holes(v, f, truth: TrueBody):
     """Faces kept: open at the crown, the soles and both armpits."""
-    from catwalk.mesh import face_normals
-
     cent = v[f].mean(axis=1)
     top = float(truth.vertices[:, 1].max())
     n = face_normals(v, f)
@@ -128,11 +128,8 @@ def _holes(v, f, truth: TrueBody):
 def scan_of(truth: TrueBody, faces: int = 300_000, noise_m: float = NOISE_M,
             holes: bool = True, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """(vertices, faces) of a scan of ``truth`` in glTF metres (see the module's text)."""
-    from scipy.spatial import cKDTree
+    from scipy.spatial import cKDTree  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
-    from catwalk.mesh import compact
-    from catwalk.render.raster import vertex_normals
-    from catwalk.simulate.metrics import BodySurface
 
     rng = np.random.default_rng(seed)
     v, f = _subdivide(truth.vertices, truth.faces, faces)
@@ -160,7 +157,7 @@ def to_file_frame(v: np.ndarray) -> np.ndarray:
 
 def write_scan(path, v_gltf: np.ndarray, f: np.ndarray) -> None:
     """The scan as a binary PLY in the scanner's frame."""
-    import trimesh
+    import trimesh  # deferred: trimesh loads in ≈ 0.4 s; only scan files need it
 
     trimesh.Trimesh(to_file_frame(v_gltf), f, process=False).export(str(path))
 
@@ -179,8 +176,6 @@ def distance_to_truth(truth_v: np.ndarray, faces: np.ndarray, body_v: np.ndarray
                       body_faces: np.ndarray) -> dict:
     """Surface distance between a registered body and the true surface, both directions
     together (every body vertex to the truth, every true vertex to the body), mm."""
-    from catwalk.simulate.metrics import BodySurface
-
     d1 = BodySurface(faces, len(truth_v)).signed_distance(truth_v, body_v)
     d2 = BodySurface(body_faces, len(body_v)).signed_distance(body_v, truth_v)
     d = np.abs(np.concatenate([d1, d2])) * 1000.0

@@ -1,11 +1,11 @@
 """Analytic colliders for tests and the drape benchmark: a disc (the Cusick support), a plane, a
 sphere. Each has ``resolve(positions, velocities, previous_positions) -> held mask`` (the
-collider hook of :class:`catwalk.cloth.solver.Solver`): points that crossed into the body are
-put back on its surface plus ``thickness``, the normal part of their velocity is removed and the
-tangential part is reduced by Coulomb friction (``friction`` × the removed normal speed); points
-in contact are reported as held (high-tension centres of the ordered pass). With ``stick=True``
-a point in contact stops; a disc's ``clamp_gap`` also holds it from above (the Cusick
-instrument clamps the specimen between two discs).
+collider hook of :class:`catwalk.cloth.solvers.explicit.solver.Solver`): points that crossed into
+the body are put back on its surface plus ``thickness``, the normal part of their velocity is
+removed and the tangential part is reduced by Coulomb friction (``friction`` × the removed normal
+speed); points in contact are reported as held (high-tension centres of the ordered pass). With
+``stick=True`` a point in contact stops; a disc's ``clamp_gap`` also holds it from above (the
+Cusick instrument clamps the specimen between two discs).
 """
 
 from __future__ import annotations

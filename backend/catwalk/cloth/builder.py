@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import Delaunay
@@ -518,8 +518,6 @@ def adjacency(n: int, sa: np.ndarray, sb: np.ndarray):
 
 def with_fabric(model: ClothModel, fabric: Fabric | str) -> ClothModel:
     """The same points and springs with another fabric's masses and spring constants."""
-    from dataclasses import replace
-
     fab = get_fabric(fabric)
     d2 = model.uv[model.spring_b] - model.uv[model.spring_a]
     k = spring_constants(fab, model.spring_kind, d2, model.spring_rest, model.h)

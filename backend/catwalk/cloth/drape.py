@@ -13,13 +13,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
-from catwalk.cloth import kernels as K
 from catwalk.cloth.analytic import DiscCollider
 from catwalk.cloth.builder import Panel, build_cloth, circle, horizontal
-from catwalk.cloth.model import ClothModel, State
-from catwalk.cloth.solver import Solver
+from catwalk.cloth.model import ClothModel
+from catwalk.cloth.solvers.explicit.solver import Solver
+from catwalk.cloth.state import State
 
 SPECIMEN_RADIUS = 0.15
 DISC_RADIUS = 0.09
@@ -53,7 +54,7 @@ def shadow_area(model: ClothModel, positions: np.ndarray, pixel: float = 0.0005)
     lo_x, lo_z = x.min() - pixel, z.min() - pixel
     nx = int(math.ceil((x.max() - lo_x) / pixel)) + 2
     nz = int(math.ceil((z.max() - lo_z) / pixel)) + 2
-    return float(K.shadow_area(x, z, model.triangles, lo_x, lo_z, pixel, nx, nz))
+    return float(_shadow_kernel(x, z, model.triangles, lo_x, lo_z, pixel, nx, nz))
 
 
 def drape_coefficient(model: ClothModel, positions: np.ndarray,
@@ -87,8 +88,10 @@ def drape_nodes(hem: np.ndarray, centre=(0.0, 0.0)) -> int:
     the troughs on either side by ``NODE_PROMINENCE_M`` and by ``NODE_PROMINENCE_SHARE`` of the
     outline's radial range. (The hem, not every point: a point inside the outline would read
     as a dip in it.)"""
-    from scipy.ndimage import uniform_filter1d
-    from scipy.signal import find_peaks
+    from scipy.ndimage import (
+        uniform_filter1d,  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    )  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    from scipy.signal import find_peaks  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
     prof = outline_profile(hem, centre)
     n = len(prof)
@@ -138,3 +141,44 @@ def cusick_drape(fabric, h: float = 0.01, method: str = "ordered", max_seconds: 
     dc = drape_coefficient(model, state.positions, specimen_radius, disc_radius)
     return DrapeResult(model.fabric.id, dc, h, state.time, state.steps, settled, model, state,
                        drape_nodes(state.positions[model.boundary]))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _shadow_kernel(x, z, tris, lo_x, lo_z, pixel, nx, nz):
+    """Area covered by the triangles' projection on the XZ plane, by rasterising them on an
+    ``nx`` × ``nz`` grid of square pixels (side ``pixel``) from (lo_x, lo_z); pixel centres."""
+    cover = np.zeros((nz, nx), dtype=np.uint8)
+    for t in range(tris.shape[0]):
+        a = tris[t, 0]
+        b = tris[t, 1]
+        c = tris[t, 2]
+        ax = (x[a] - lo_x) / pixel
+        az = (z[a] - lo_z) / pixel
+        bx = (x[b] - lo_x) / pixel
+        bz = (z[b] - lo_z) / pixel
+        cx = (x[c] - lo_x) / pixel
+        cz = (z[c] - lo_z) / pixel
+        area = (bx - ax) * (cz - az) - (bz - az) * (cx - ax)
+        if area == 0.0:
+            continue
+        i0 = max(int(np.floor(min(ax, bx, cx))), 0)
+        i1 = min(int(np.ceil(max(ax, bx, cx))), nx - 1)
+        j0 = max(int(np.floor(min(az, bz, cz))), 0)
+        j1 = min(int(np.ceil(max(az, bz, cz))), nz - 1)
+        for j in range(j0, j1 + 1):
+            pz = j + 0.5
+            for i in range(i0, i1 + 1):
+                px = i + 0.5
+                w0 = (bx - px) * (cz - pz) - (bz - pz) * (cx - px)
+                w1 = (cx - px) * (az - pz) - (cz - pz) * (ax - px)
+                w2 = (ax - px) * (bz - pz) - (az - pz) * (bx - px)
+                if area > 0:
+                    if w0 >= 0 and w1 >= 0 and w2 >= 0:
+                        cover[j, i] = 1
+                elif w0 <= 0 and w1 <= 0 and w2 <= 0:
+                    cover[j, i] = 1
+    total = 0
+    for j in range(nz):
+        for i in range(nx):
+            total += cover[j, i]
+    return total * pixel * pixel

@@ -30,13 +30,16 @@ any grid spacing h (docs/cloth.md derives it):
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
-from catwalk.errors import InputError
+from catwalk.config import REPO_DIR
+from catwalk.errors import CatwalkError, InputError
 
 #: κ₀ (1/m): the curvature at which a bend spring's energy matches the continuum ½Bκ²
 #: (a fold of 4 cm radius, typical of the drape test and garment folds).
@@ -186,8 +189,6 @@ _PETRAK_ROWS = [
 
 
 def _petrak_path() -> Path | None:
-    from catwalk.config import REPO_DIR
-
     for base in (REPO_DIR, *REPO_DIR.parents):
         for cand in (base / "shared" / "data" / "fabrics" / "petrak2025-woven.json",
                      base.parent / "shared" / "data" / "fabrics" / "petrak2025-woven.json"):
@@ -234,3 +235,47 @@ def get_fabric(name: str | Fabric) -> Fabric:
             return table[name]
     known = ", ".join(list(PRESETS) + ["m1…m6"])
     raise InputError(f"unknown fabric {name!r} (known: {known})")
+
+
+def resolve_fabric(spec, where: str = "fabric"):
+    """A :class:`catwalk.cloth.fabrics.Fabric` from a preset name or a custom fabric object
+    (``{"base": "denim", "density": 0.3}`` overrides a preset; otherwise every field of
+    ``Fabric`` is given), or a ``Fabric`` itself."""
+
+    if isinstance(spec, dict):
+        fields = {f.name: f.type for f in dataclasses.fields(Fabric)}
+        for key, value in spec.items():
+            if key == "base":
+                if not isinstance(value, str):
+                    raise InputError(f"{where}: base must be a fabric preset name, got "
+                                     f"{value!r:.60}")
+            elif key not in fields:
+                raise InputError(f"{where}: unknown fabric property {key!r:.60} (known: base, "
+                                 f"{', '.join(fields)})")
+            elif fields[key] in ("str", str):
+                if not isinstance(value, str):
+                    raise InputError(f"{where}: {key} must be a string, got {value!r:.60}")
+            elif isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                raise InputError(f"{where}: {key} must be a number, got {value!r:.60}")
+    try:
+        if isinstance(spec, Fabric):
+            return spec.validate()
+        if isinstance(spec, str):
+            return get_fabric(spec)
+        if isinstance(spec, dict):
+            spec = dict(spec)
+            if "base" in spec:
+                base = get_fabric(spec.pop("base"))
+                return base.with_(**spec)
+            return Fabric(**spec).validate()
+    except TypeError as exc:
+        raise InputError(f"{where}: not a usable custom fabric ({exc})") from None
+    except CatwalkError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    raise InputError(f"{where}: a fabric is a preset name or an object, got {spec!r:.80}")
+
+
+def fabric_choices() -> list[str]:
+    """Every fabric a shopper may pick: the presets, then the measured (Petrak) fabrics."""
+    return list(PRESETS) + sorted(load_petrak())

@@ -6,8 +6,11 @@ import math
 
 import numpy as np
 
+from catwalk.cloth import springs
 from catwalk.cloth.builder import Panel, build_cloth, rectangle, vertical
-from catwalk.cloth.model import ClothModel, State
+from catwalk.cloth.fabrics import get_fabric
+from catwalk.cloth.model import ClothModel
+from catwalk.cloth.state import State
 
 #: the paper's dress (§6): 3,372 mass points, 18,623 springs
 PAPER_POINTS = 3372
@@ -55,14 +58,11 @@ GRID_SIZE = (0.3, 0.2)
 def grid_energy(fabric, deform, h: float = 0.02):
     """(the springs' elastic energy, the fabric) of a :data:`GRID_SIZE` grid of ``fabric`` at
     spacing ``h`` whose rest positions (in the XY plane) ``deform(x0)`` moves (a new array)."""
-    from catwalk.cloth import kernels as K
-    from catwalk.cloth.fabrics import get_fabric
-
     fab = get_fabric(fabric)
     m = build_cloth([Panel(rectangle(*GRID_SIZE))], fabric=fab, h=h)
     x = deform(m.rest_positions)
-    e = K.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
-                        fab.compression)
+    e = springs.spring_energy(x, m.spring_a, m.spring_b, m.spring_rest, m.spring_k, m.n_limited,
+                              fab.compression)
     return float(e), fab
 
 

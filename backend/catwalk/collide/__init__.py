@@ -29,9 +29,9 @@ Interface (what the cloth solver relies on)::
   was moving into the body) and the tangential part relative to the body loses μ·|Δv_n|
   (Coulomb friction). Returns ``held`` (P,) bool: the points in contact at this substep
   (within ``thickness`` + ``contact_slack``, 0.5 mm) — the solver's tension centres for the
-  ordered strain limit. The cloth solver (:mod:`catwalk.cloth.solver`) calls it exactly so.
-  ``resolve(..., final=True)``: the answer is the frame the caller keeps (a walk's recorded
-  frame): the object passes look once more at the points they pushed, each searched afresh
+  ordered strain limit. The cloth solver (:mod:`catwalk.cloth.solvers.explicit.solver`) calls it
+  exactly so. ``resolve(..., final=True)``: the answer is the frame the caller keeps (a walk's
+  recorded frame): the object passes look once more at the points they pushed, each searched afresh
   (one pushed off a triangle may be behind another where the body folds onto itself).
 
 Method:
@@ -39,7 +39,7 @@ Method:
 * **Image space** (torso+head in ``hybrid``, everything in ``image``): two orthographic depth
   maps, front (nearest surface) and back (farthest), 256×256 by default, over the mapped parts'
   bounding box seen from +Z, drawn on the CPU by ``kernels.render_maps`` (the rasteriser of
-  :mod:`catwalk.render.raster`, both faces at once, only where the cloth can reach) with
+  :mod:`catwalk.geometry.raster`, both faces at once, only where the cloth can reach) with
   per-pixel interpolated vertex normal and body velocity. A point is inside when its depth lies
   between the back and the front surfaces at its pixel (bilinear over covered pixels, linear in
   time between the previous and the current frame's maps); it goes to the nearer surface.

@@ -25,12 +25,12 @@ from typing import NamedTuple
 import numpy as np
 
 from catwalk.body.types import PART_NAMES, PART_TORSO
-from catwalk.cloth.model import PLANE_COLUMNS
+from catwalk.cloth.state import PLANE_COLUMNS
 from catwalk.collide import bvh as B
 from catwalk.collide import kernels as K
 from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
 from catwalk.errors import InputError
-from catwalk.render.raster import incident_faces, vertex_normals, vertex_normals_kernel
+from catwalk.geometry.raster import incident_faces, vertex_normals, vertex_normals_kernel
 
 # CPU time of this thread: on a shared machine, wall time also counts other processes' turns
 cpu_time = time.thread_time

@@ -8,7 +8,7 @@ import numpy as np
 
 from catwalk.collide import kernels as K
 from catwalk.collide.collider import Substep, cpu_time
-from catwalk.render.raster import ortho_view
+from catwalk.geometry.raster import ortho_view
 
 
 class DepthMaps:

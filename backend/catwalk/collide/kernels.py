@@ -21,15 +21,10 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from catwalk.cloth.kernels import contact_velocity
-from catwalk.collide.bvh import (
-    _box_d2,
-    _swept_d2,
-    closest_on_triangle,
-    closest_triangle_t,
-    swept_lower,
-)
-from catwalk.render.raster import row_span
+from catwalk.cloth.contact_planes import contact_velocity
+from catwalk.collide.bvh import _box_d2, _swept_d2, closest_triangle_t, swept_lower
+from catwalk.geometry.raster import row_span
+from catwalk.geometry.triangles import closest_on_triangle
 
 (ST_BOXED, ST_NARROW, ST_CONTACT, ST_REUSED, ST_NODES, ST_SKIPPED, ST_CLEAR, ST_TRIS,
  ST_EDGE, ST_SECOND, ST_PINCH, ST_FOLD, ST_RECHECK) = range(13)
@@ -69,7 +64,7 @@ def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz,
     (``planes[i]``, 8 numbers) is the body's surface offset by ``thickness``,
     n·x ≥ n·p + thickness − s (0–2: n, 3: that offset), moving with the body's velocity there
     (4–6), with the friction coefficient (7); the cloth solver keeps the point on its side
-    until the next response (:func:`catwalk.cloth.kernels.apply_planes`)."""
+    until the next response (:func:`catwalk.cloth.contact_planes.apply_planes`)."""
     planes[i, 0] = nx
     planes[i, 1] = ny
     planes[i, 2] = nz
@@ -1108,7 +1103,7 @@ def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, 
     region the cloth can reach): the region is cleared and every triangle facing the camera
     drawn into the front map (nearest kept), every triangle facing away into the back map
     (farthest kept), in one pass. Inside the region the result is exactly that of
-    :func:`catwalk.render.raster.raster_kernel` with back- and front-face culling over the
+    :func:`catwalk.geometry.raster.raster_kernel` with back- and front-face culling over the
     whole map (same coverage rule, same order); outside it the maps are left as they were.
     ``sv``/``attrs``: workspaces for the screen positions and attributes of ``idx``."""
     for k in range(idx.shape[0]):

@@ -11,9 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from catwalk.body.make import make_body
+from catwalk.body.skinning import body_frames
 from catwalk.collide.collider import face_parts
 from catwalk.collide.shapes import Mannequin, walk_frames
-from catwalk.render.raster import vertex_normals
+from catwalk.geometry.raster import vertex_normals
+from catwalk.motion.gait import walk_motion
 
 
 @dataclass
@@ -43,12 +46,8 @@ def makehuman_walk(n_frames=30, fps=30.0, speed=1.2, style="catwalk", sex="femal
                    height=1.68, bust=0.90, waist=0.72, hips=0.98) -> WalkingBody:
     """A MakeHuman body from measurements (:func:`catwalk.body.make.make_body`) walking
     (:func:`catwalk.motion.gait.walk_motion`, skinned by
-    :func:`catwalk.motion.skinning.body_frames`): the first ``n_frames`` frames of a looping
+    :func:`catwalk.body.skinning.body_frames`): the first ``n_frames`` frames of a looping
     walk. Needs the MakeHuman assets (fetched on first use)."""
-    from catwalk.body.make import make_body
-    from catwalk.motion.gait import walk_motion
-    from catwalk.motion.skinning import body_frames
-
     body = make_body(sex, height, bust=bust, waist=waist, hips=hips)
     seconds = max(n_frames / fps, 1.0)
     motion = walk_motion(body, seconds, speed=speed, style=style, fps=fps)

@@ -21,7 +21,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from catwalk.collide.bvh import ray_triangle
+from catwalk.geometry.triangles import ray_triangle
 
 #: a body vertex is sharp when it stands this far (m) out of the mean of its neighbours within
 #: SHARP_RADIUS, along its normal (on the 1.68 m sample bodies: bust points 4–6 mm, fingers,
@@ -36,7 +36,7 @@ def sharp_vertices(vertices: np.ndarray, normals: np.ndarray, radius: float = SH
                    height: float = SHARP_HEIGHT) -> np.ndarray:
     """Indices of the vertices that stand more than ``height`` out of the mean of their
     neighbours within ``radius``, along their unit ``normals``."""
-    from scipy.spatial import cKDTree
+    from scipy.spatial import cKDTree  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
     v = np.asarray(vertices, dtype=np.float64)
     tree = cKDTree(v)

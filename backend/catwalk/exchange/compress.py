@@ -15,17 +15,18 @@ channels and the chunks from the node names. A compressed file is for players (t
 from __future__ import annotations
 
 import subprocess
+import tempfile
+import time
 from pathlib import Path
 
-from catwalk.errors import InputError, SetupError
+from catwalk.config import get_config
+from catwalk.errors import Cancelled, InputError, SetupError
 from catwalk.fileio import atomic_path
 
 GLTFPACK_ARGS = ("-cc", "-af", "0", "-kn", "-km", "-kv", "-vtf")
 
 
 def gltfpack_script() -> Path:
-    from catwalk.config import get_config
-
     tools = get_config().node_tools_dir
     script = tools / "node_modules" / "gltfpack" / "cli.js"
     if not script.is_file():
@@ -56,10 +57,6 @@ def compress_glb(src: str | Path, dst: str | Path, cancel=None) -> dict:
 
 def _run(cmd: list[str], cancel, timeout: float = 600.0) -> tuple[int, str]:
     """Run ``cmd``; (exit code, its output). Stopped when ``cancel()`` or after ``timeout``."""
-    import time
-
-    from catwalk.errors import Cancelled
-
     with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                           text=True) as proc:
         t0 = time.monotonic()
@@ -81,8 +78,6 @@ def compress_bytes(data: bytes, cancel=None, workdir: str | Path | None = None
     """A meshopt-compressed copy of the .glb ``data`` and ``{"input_bytes", "output_bytes",
     "ratio"}``; gltfpack's files go to a temporary folder in ``workdir`` (default: the
     system's)."""
-    import tempfile
-
     if workdir is not None:
         Path(workdir).mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix=".catwalk-pack-", dir=workdir) as tmp:

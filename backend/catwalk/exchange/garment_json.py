@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from catwalk.errors import InputError
-from catwalk.exchange.source import read_json
+from catwalk.exchange.source import check_depth, read_json
 from catwalk.fileio import atomic_path
 from catwalk.garment.geometry import KINDS, Segment
 from catwalk.garment.model import (
@@ -240,8 +240,6 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
     to its folder); ``name``: how messages call it (default: the path, or "garment");
     ``problems``: where a seam naming no panel is reported (and left out) instead of raised,
     so that the checker can list it beside the garment's other problems."""
-    from catwalk.exchange.source import check_depth
-
     src = name or (f"{path}" if path else "garment")
     if not isinstance(data, dict):
         raise InputError(f"{src}: not a garment (expected a JSON object)")

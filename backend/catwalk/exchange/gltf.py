@@ -15,8 +15,11 @@ from __future__ import annotations
 
 import copy
 import functools
+import hashlib
 import json
 import math
+import struct
+import subprocess
 from pathlib import Path
 
 import numpy as np
@@ -24,10 +27,11 @@ import pygltflib as g
 from scipy.spatial.transform import Rotation
 
 from catwalk.body.types import Body, Motion, Skeleton
+from catwalk.config import get_config
 from catwalk.errors import InputError
-from catwalk.exchange.source import read_source, source_name
+from catwalk.exchange.source import parse_json, read_source, source_name
 from catwalk.fileio import atomic_path
-from catwalk.render.raster import vertex_normals
+from catwalk.geometry.raster import vertex_normals
 
 _TYPE_BY_WIDTH = {1: g.SCALAR, 2: g.VEC2, 3: g.VEC3, 4: g.VEC4, 16: g.MAT4}
 _COMPONENT = {
@@ -443,8 +447,6 @@ class Gltf(GltfObject):
 def load_glb(source, what: str = "glb") -> tuple[Gltf, bytes]:
     """The glTF document (:class:`Gltf`) and binary chunk of a .glb given as a path, bytes or
     a file object (``what`` names bytes in messages)."""
-    import struct
-
     data, path = read_source(source, what, max_bytes=MAX_GLB_BYTES)
     if data[:4] != b"glTF":
         raise InputError(f"{path}: not a GLB file (no 'glTF' magic)")
@@ -462,12 +464,10 @@ def load_glb(source, what: str = "glb") -> tuple[Gltf, bytes]:
     if data[16:20] != b"JSON" or 20 + json_len > length:
         raise InputError(f"{path}: damaged GLB: the first chunk is not a JSON chunk within "
                          "the file")
-    import hashlib
 
     key = hashlib.sha1(data).digest()
     if key in _PARSED:   # several readers of one file parse it once
         return _PARSED[key]
-    from catwalk.exchange.source import parse_json
 
     doc = parse_json(data[20:20 + json_len], f"{path}: its JSON chunk")
     if not isinstance(doc, dict):
@@ -770,10 +770,6 @@ def read_motion(source, name: str | None = None, *, label: str | None = None) ->
 
 def validate(paths: list[str | Path]) -> list[dict]:
     """Run the Khronos glTF validator (npm gltf-validator, in tools/node) on files."""
-    import subprocess
-
-    from catwalk.config import get_config
-
     tools = get_config().node_tools_dir
     script = tools / "validate.mjs"
     if not (tools / "node_modules" / "gltf-validator").is_dir():

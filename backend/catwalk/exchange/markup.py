@@ -47,6 +47,7 @@ from catwalk.exchange.garment_json import (
     garment_to_dict,
 )
 from catwalk.exchange.source import read_json
+from catwalk.garment.geometry import run_length, segment_lengths, split_at_length
 from catwalk.garment.model import GARMENT_TYPES, PANEL_TYPES, Garment, Panel, Seam, SeamSide
 
 SNAP = 5e-3   # metres
@@ -231,8 +232,6 @@ def _side(g: Garment, raw, renames: dict[str, str], where: str) -> SeamSide:
 def _split(g: Garment, p: Panel, sp, where: str) -> None:
     """Insert a vertex ``length`` along the outline from vertex ``from`` in every size; the
     length is metres or the length of a run ``{"panel", "start", "end"}`` in the same size."""
-    from catwalk.garment.geometry import run_length, segment_lengths, split_at_length
-
     if not isinstance(sp, dict) or "from" not in sp or "length" not in sp:
         raise InputError(f"{where}: a split is {{\"from\": vertex, \"length\": metres or run}}")
     new: set[int] = set()

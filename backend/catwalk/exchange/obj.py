@@ -16,7 +16,7 @@ import numpy as np
 
 from catwalk.errors import InputError
 from catwalk.fileio import atomic_path
-from catwalk.simulate.frames import GarmentFrames
+from catwalk.garment.frames import GarmentFrames
 
 SKIN_RGB = (0.80, 0.66, 0.58)
 

@@ -32,10 +32,12 @@ from pathlib import Path
 
 import numpy as np
 
+from catwalk.body.measure import _Slicer, _topology
 from catwalk.errors import InputError
+from catwalk.exchange.gltf import check_meshes
 from catwalk.exchange.source import read_source
-from catwalk.mesh import compact, edge_keys
-from catwalk.mesh import components as mesh_components
+from catwalk.geometry.mesh import compact, edge_keys
+from catwalk.geometry.mesh import components as mesh_components
 
 MAX_FACES = 2_000_000
 MAX_VERTICES = 3 * MAX_FACES
@@ -140,7 +142,6 @@ def _precheck(data: bytes, path: str, fmt: str) -> None:
         if size < length:
             raise InputError(f"{path}: truncated GLB: header says {length:,} bytes, "
                              f"file has {size:,}")
-        from catwalk.exchange.gltf import check_meshes
 
         check_meshes(data, path)
 
@@ -154,7 +155,7 @@ def _read(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _read_quietly(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndarray]:
-    import trimesh
+    import trimesh  # deferred: trimesh loads in ≈ 0.4 s; only scan files need it
 
     try:
         loaded = trimesh.load(io.BytesIO(data), file_type=fmt, force="scene", process=False)
@@ -207,8 +208,10 @@ def _read_quietly(data: bytes, path: str, fmt: str) -> tuple[np.ndarray, np.ndar
 
 def _topology_report(faces: np.ndarray, nverts: int) -> tuple[int, int, int]:
     """(boundary loops, connected components, non-manifold edges)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
+    from scipy.sparse import coo_matrix  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    from scipy.sparse.csgraph import (
+        connected_components,  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    )  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
     uniq, counts = np.unique(edge_keys(faces, nverts), return_counts=True)
     boundary = uniq[counts == 1]
@@ -259,8 +262,6 @@ def _sections(v, faces, axis, fractions, length, lo):
     """Horizontal-ish sections perpendicular to ``axis`` at the given fractions of the length
     measured from coordinate ``lo``: per level (perimeters, centroids (k, 2), areas, level,
     boxes (k, 4))."""
-    from catwalk.body.measure import _Slicer, _topology
-
     topo = _topology(faces, len(v))
     v = topo.extend(v)  # holes are closed by fans (extra vertices) for slicing
     others = [a for a in range(3) if a != axis]

@@ -10,20 +10,24 @@ checked or rendered is what a viewer plays.
 
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
 import numpy as np
+from PIL import Image
 
+from catwalk.body.skinning import joint_world_matrices, skin
 from catwalk.body.types import Body, Motion
 from catwalk.exchange.gltf import read_body, read_motion
+from catwalk.exchange.source import read_source
 from catwalk.exchange.tryon_glb import (
     embedded_images,
     panel_texture_images,
     read_garments,
 )
-from catwalk.simulate.frames import GarmentFrames
+from catwalk.garment.frames import GarmentFrames
 
 SKIN_RGB = (0.80, 0.66, 0.58)
 
@@ -49,8 +53,6 @@ def texture_vertex_colours(image: np.ndarray, texcoord: np.ndarray,
     """RGB per vertex of ``image`` (H, W, 3|4 floats in 0..1, REPEAT-wrapped) at ``texcoord``
     (n, 2), the image first box-filtered so one texel is about one mesh edge long (a mip level:
     a fine pattern averages out instead of aliasing)."""
-    from PIL import Image
-
     tc = np.asarray(texcoord, dtype=np.float64)
     tri = np.asarray(triangles, dtype=np.int64)
     rgb = np.asarray(image, dtype=np.float64)[..., :3]
@@ -117,7 +119,6 @@ class Scene:
     def body_vertices_at(self, t: float) -> np.ndarray:
         if self.motion is None or self.body.skeleton is None:
             return self.body.vertices
-        from catwalk.motion.skinning import joint_world_matrices, skin
 
         rot, tr = sample_motion(self.motion, t)
         world = joint_world_matrices(self.body.skeleton, rot, tr)
@@ -135,10 +136,6 @@ class Scene:
 def scene_of(body: Body, motion: Motion | None, garments: list[GarmentFrames]) -> Scene:
     """The scene of a try-on still in memory (no file read back): textures from the image
     files the garment frames name."""
-    import io
-
-    from PIL import Image
-
     def image(tex):
         if tex is None:
             return None
@@ -151,8 +148,6 @@ def scene_of(body: Body, motion: Motion | None, garments: list[GarmentFrames]) -
 
 def load_scene(source) -> Scene:
     """The scene of a try-on .glb (a path, bytes or a binary file object)."""
-    from catwalk.exchange.source import read_source
-
     data, name = read_source(source, "try-on")   # read once: several readers parse it
     garments = read_garments(data, label=name)
     rgb = []

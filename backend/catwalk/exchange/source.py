@@ -8,6 +8,7 @@ names the input in its errors.
 from __future__ import annotations
 
 import io
+import json
 import os
 from pathlib import Path
 
@@ -72,8 +73,6 @@ MAX_JSON_DEPTH = 64         # nesting: catwalk's documents need about ten levels
 def parse_json(data: bytes, name: str):
     """The JSON document in ``data`` (UTF-8), nested at most :data:`MAX_JSON_DEPTH` deep;
     anything else raises :class:`InputError` naming ``name``."""
-    import json
-
     try:
         doc = json.loads(data.decode("utf-8"))
     except RecursionError:

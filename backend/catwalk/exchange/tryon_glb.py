@@ -24,10 +24,13 @@ See ``docs/tryon-format.md`` for the whole layout and how three.js plays it.
 
 from __future__ import annotations
 
+import io
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pygltflib as g
+from PIL import Image
 
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
@@ -47,8 +50,8 @@ from catwalk.exchange.gltf import (
     load_glb,
 )
 from catwalk.exchange.source import source_name
-from catwalk.render.raster import vertex_normals
-from catwalk.simulate.frames import GarmentFrames, float32_times
+from catwalk.garment.frames import GarmentFrames, float32_times
+from catwalk.geometry.raster import vertex_normals
 
 CLIP = "walk"
 FORMAT = "catwalk-tryon"
@@ -452,11 +455,6 @@ def read_garments(path, *, label: str | None = None) -> list[GarmentFrames]:
 def embedded_images(path, *, label: str | None = None) -> dict[int, np.ndarray]:
     """Decoded embedded images of a .glb, by image index, as float RGB(A) arrays in 0..1
     (at most :data:`~catwalk.exchange.gltf.MAX_IMAGE_PIXELS` pixels each)."""
-    import io
-    import warnings
-
-    from PIL import Image
-
     gltf, blob = load_glb(path, label or "try-on")
     path = label or source_name(path, "try-on")
     out = {}

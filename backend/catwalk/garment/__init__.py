@@ -6,7 +6,7 @@
 - :mod:`~catwalk.garment.check`: ``catwalk garment check``;
 - :mod:`~catwalk.exchange.dxf`, :mod:`~catwalk.exchange.markup`: AAMA/ASTM and plain DXF import;
 - :mod:`~catwalk.exchange.garmentcode`, :mod:`~catwalk.exchange.freesewing`: pattern importers;
-- :mod:`~catwalk.garment.catalogue`: how ``garments/`` is built;
+- :mod:`~catwalk.catalogue.garments`: how ``garments/`` is built;
 - :mod:`~catwalk.garment.place`: panels placed round a body from its landmarks.
 
 See ``docs/garment-format.md``.

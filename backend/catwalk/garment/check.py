@@ -18,6 +18,7 @@ at most :data:`MAX_TEXTURE_PIXELS`.
 
 from __future__ import annotations
 
+import ast
 import contextlib
 import math
 import re
@@ -26,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from catwalk.cloth.fabrics import resolve_fabric
 from catwalk.errors import InputError
 from catwalk.garment.geometry import (
     crossing_work,
@@ -100,8 +102,6 @@ def problem(message: str) -> dict:
     """A message of the checker (or the garment reader) with what it names picked out: the
     first panel (``panel 'front'``), the first edge, the seam's number and the size. Every
     message names its panel and edge in these words (the checker's own formats)."""
-    import ast
-
     out: dict = {}
     if m := _PANEL.search(message):
         with contextlib.suppress(ValueError, SyntaxError):
@@ -114,49 +114,6 @@ def problem(message: str) -> dict:
         out["size"] = m.group(1) or m.group(2)
     out["message"] = message
     return out
-
-
-def resolve_fabric(spec, where: str = "fabric"):
-    """A :class:`catwalk.cloth.fabrics.Fabric` from a preset name or a custom fabric object
-    (``{"base": "denim", "density": 0.3}`` overrides a preset; otherwise every field of
-    ``Fabric`` is given), or a ``Fabric`` itself."""
-    import dataclasses
-
-    from catwalk.cloth.fabrics import Fabric, get_fabric
-    from catwalk.errors import CatwalkError
-
-    if isinstance(spec, dict):
-        fields = {f.name: f.type for f in dataclasses.fields(Fabric)}
-        for key, value in spec.items():
-            if key == "base":
-                if not isinstance(value, str):
-                    raise InputError(f"{where}: base must be a fabric preset name, got "
-                                     f"{value!r:.60}")
-            elif key not in fields:
-                raise InputError(f"{where}: unknown fabric property {key!r:.60} (known: base, "
-                                 f"{', '.join(fields)})")
-            elif fields[key] in ("str", str):
-                if not isinstance(value, str):
-                    raise InputError(f"{where}: {key} must be a string, got {value!r:.60}")
-            elif isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
-                raise InputError(f"{where}: {key} must be a number, got {value!r:.60}")
-    try:
-        if isinstance(spec, Fabric):
-            return spec.validate()
-        if isinstance(spec, str):
-            return get_fabric(spec)
-        if isinstance(spec, dict):
-            spec = dict(spec)
-            if "base" in spec:
-                base = get_fabric(spec.pop("base"))
-                return base.with_(**spec)
-            return Fabric(**spec).validate()
-    except TypeError as exc:
-        raise InputError(f"{where}: not a usable custom fabric ({exc})") from None
-    except CatwalkError as exc:
-        raise InputError(f"{where}: {exc}") from None
-    raise InputError(f"{where}: a fabric is a preset name or an object, got {spec!r:.80}")
 
 
 def _extent(shape: Shape) -> float:

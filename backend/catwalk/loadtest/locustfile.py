@@ -16,6 +16,7 @@ import os
 import random
 import time
 
+import httpx
 from locust import FastHttpUser, between, events, tag, task
 
 from catwalk.loadtest.run import BODY
@@ -27,8 +28,6 @@ GARMENT = os.environ.get("CATWALK_LOADTEST_GARMENT", "pencil-skirt")
 @events.test_start.add_listener
 def _prepare(environment, **_):
     """The body and the finished try-on ``catwalk loadtest`` made before starting."""
-    import httpx
-
     STATE["body"] = os.environ["CATWALK_LOADTEST_BODY"]
     STATE["done"] = os.environ["CATWALK_LOADTEST_DONE"]
     with httpx.Client(base_url=environment.host, timeout=60) as http:
@@ -38,8 +37,6 @@ def _prepare(environment, **_):
 
 @events.test_stop.add_listener
 def _summarise(environment, **_):
-    import httpx
-
     out = os.environ.get("CATWALK_LOADTEST_OUT")
     if not out:
         return

@@ -3,12 +3,16 @@
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
+import httpx
+
 from catwalk.errors import InputError, SetupError
+from catwalk.service.client import ApiFailure, Client
 
 LOCUSTFILE = Path(__file__).resolve().with_name("locustfile.py")
 
@@ -18,8 +22,6 @@ BODY = {"sex": "female", "height": 1.68, "bust": 0.90, "waist": 0.72, "hips": 0.
 
 def prepare(url: str, garment: str) -> tuple[str, str]:
     """A body and a finished fast try-on of ``garment`` (waits for a worker): their ids."""
-    from catwalk.service.client import ApiFailure, Client
-
     try:
         with Client(url, timeout=300) as api:
             body = api.create_body(**BODY)
@@ -47,9 +49,7 @@ def run(url: str, users: int, seconds: float, garment: str = "pencil-skirt",
     :mod:`catwalk.loadtest.locustfile`). ``mix``: a key of :data:`MIXES`."""
     if mix not in MIXES:
         raise InputError(f"mix {mix!r}: one of {', '.join(MIXES)}", "mix")
-    import os
 
-    import httpx
 
     try:
         httpx.get(f"{url.rstrip('/')}/readyz", timeout=5).raise_for_status()

@@ -31,10 +31,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from catwalk.body.rig import armpit_seam
+from catwalk.body.skinning import joint_world_matrices, skinning_matrices
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
+from catwalk.geometry.mesh import face_normals, folds, smooth_pairs
+from catwalk.geometry.quat import axis_angle, make_continuous, mat_to_quat, rot_x, rot_y, rot_z
 from catwalk.motion.ik import bone_delta, two_bone_ik
-from catwalk.motion.quat import axis_angle, make_continuous, mat_to_quat, rot_x, rot_y, rot_z
 
 G = 9.81
 
@@ -714,8 +717,6 @@ def foot_sliding(body: Body, motion: Motion, verts: np.ndarray, contact: float =
 def walk_folds(body: Body, verts: np.ndarray, every: int = 2) -> int:
     """The most triangle pairs folded over (normals more than 90° apart) in any of the walk's
     frames (every ``every``-th) that were smooth (under 60°) at rest: the skinning's creases."""
-    from catwalk.mesh import folds, smooth_pairs
-
     smooth = smooth_pairs(body.vertices, body.faces)
     return max(len(folds(np.asarray(verts[i], np.float64), body.vertices, body.faces, smooth))
                for i in range(0, len(verts), every))
@@ -726,8 +727,6 @@ def sagittal_angles(body: Body, motion: Motion, side: str = "l"):
     positions in the sagittal (y, z) plane the way the tables define them: hip flexion of the
     thigh against the pelvis (lab convention: thigh angle to the vertical + the mean anterior
     tilt), knee flexion, ankle dorsiflexion; the rest pose reads 0 for the knee and ankle."""
-    from catwalk.motion.skinning import joint_world_matrices
-
     sk = body.skeleton
     names = [f"thigh_{side}", f"calf_{side}", f"foot_{side}", f"ball_{side}"]
     js = [sk.index(n) for n in names]
@@ -755,9 +754,8 @@ def sagittal_angles(body: Body, motion: Motion, side: str = "l"):
 def armpit_faces(body: Body, reach: float = 0.06) -> np.ndarray:
     """Indices of the body's triangles with a corner within ``reach`` (m, at rest) of a seam
     between the torso and an arm: the armpits and the tops of the shoulders."""
-    from scipy.spatial import cKDTree
+    from scipy.spatial import cKDTree  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
-    from catwalk.body.rig import armpit_seam
 
     v = np.asarray(body.vertices, np.float64)
     tri = np.asarray(body.faces, np.int64)
@@ -773,9 +771,6 @@ def inverted_triangles(body: Body, motion: Motion, verts: np.ndarray,
     rotation of its corners (the skinning's own frame there). A smooth rig has none; linear
     blend skinning folds a joint's crease over itself where the weights change too abruptly
     (the armpit with MakeHuman's weights, :mod:`catwalk.body.rig`)."""
-    from catwalk.mesh import face_normals
-    from catwalk.motion.skinning import joint_world_matrices, skinning_matrices
-
     tri = np.asarray(body.faces if faces is None else faces, dtype=np.int64)
     corners = np.unique(tri)
     local = np.searchsorted(corners, tri)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from catwalk.motion.quat import frame_from, orthonormalize
+from catwalk.geometry.quat import frame_from, orthonormalize
 
 
 def two_bone_ik(root: np.ndarray, target: np.ndarray, pole: np.ndarray, l1: float, l2: float,

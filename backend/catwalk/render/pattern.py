@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import io
 
+from PIL import Image, ImageDraw
+
 from catwalk.garment.model import Garment, cut_pieces
 
 FILL = {"front": (214, 228, 245), "back": (232, 222, 244), "sleeve": (222, 240, 222),
@@ -32,8 +34,6 @@ def _shelves(spans, width_m: float):
 def pattern_png(garment: Garment, size: str | None = None,
                 image_size: tuple[int, int] = (480, 360), margin: int = 12) -> bytes:
     """The pieces of ``garment`` in ``size`` (its default size) as a PNG."""
-    from PIL import Image, ImageDraw
-
     pieces, _ = cut_pieces(garment, size)
     outlines = [p.flat.points - p.flat.points.min(axis=0) for p in pieces]
     spans = [o.max(axis=0) for o in outlines]

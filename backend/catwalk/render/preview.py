@@ -7,7 +7,7 @@ one colour per vertex (N,3). Views: ``front`` (camera on +Z looking −Z), ``sid
 body's left, +X), ``back``, ``right`` or a yaw in degrees. Shading: smooth (per-vertex normal)
 two-sided Lambert with a soft key light from the upper left of the camera, a weak fill and
 ambient, 2× supersampled; a light grey background and, optionally, the floor (y = 0) with a soft
-contact shadow. The rasteriser is :mod:`catwalk.render.raster`, shared with the collider.
+contact shadow. The rasteriser is :mod:`catwalk.geometry.raster`, shared with the collider.
 """
 
 from __future__ import annotations
@@ -16,10 +16,11 @@ import os
 
 import numba
 import numpy as np
+from PIL import Image
 
 from catwalk.errors import InputError
 from catwalk.fileio import atomic_path
-from catwalk.render.raster import (
+from catwalk.geometry.raster import (
     Raster,
     camera_axes,
     ortho_view,
@@ -226,8 +227,6 @@ def save_png(image, path, flag: str | None = None) -> None:
 def _save(image, path, flag: str | None, fmt: str) -> None:
     """``image`` written atomically (:func:`atomic_path`) as ``fmt``: PNG, or JPEG (no alpha,
     quality 92)."""
-    from PIL import Image
-
     a = _image_array(image)
     if fmt == "JPEG" and a.ndim == 3:
         a = a[..., :3]

@@ -20,7 +20,14 @@ import multiprocessing
 import shutil
 from pathlib import Path
 
+from catwalk.body.from_scan import body_from_scan
+from catwalk.body.make import make_body
+from catwalk.body.rig import measured_base_body
 from catwalk.body.types import MEASUREMENTS as SHOWN  # shown for a body, in this order
+from catwalk.exchange.gltf import glb_bytes
+from catwalk.exchange.scan import load_scan
+from catwalk.service.children import die_with_parent
+from catwalk.service.store.files import Storage
 
 MEASUREMENT_FIELDS = ("height", "bust", "waist", "hips")
 
@@ -33,16 +40,11 @@ def shown(measured: dict) -> dict:
 
 def _write_body(body, out: Path) -> None:
     """The body's .glb, written whole, readable by the service's user only."""
-    from catwalk.exchange.gltf import glb_bytes
-    from catwalk.service.storage import Storage
-
     Storage(out.parent).write(out, glb_bytes(body))
 
 
 def make_from_measurements(out: str, sex: str, values: dict) -> dict:
     """(In a pool process.) Make the body, write it to ``out``; its measured girths."""
-    from catwalk.body.make import make_body
-
     body = make_body(sex=sex, **{k: values[k] for k in MEASUREMENT_FIELDS})
     _write_body(body, Path(out))
     return {"model_measurements": shown(body.meta["measured"])}
@@ -50,9 +52,6 @@ def make_from_measurements(out: str, sex: str, values: dict) -> dict:
 
 def make_from_scan(scan_path: str, out: str, sex: str | None) -> dict:
     """(In a pool process.) Register the template to the scan, write the body."""
-    from catwalk.body.from_scan import body_from_scan
-    from catwalk.exchange.scan import load_scan
-
     scan = load_scan(scan_path, name="scan")
     body, report = body_from_scan(scan, sex=sex)
     _write_body(body, Path(out))
@@ -68,10 +67,6 @@ def make_from_scan(scan_path: str, out: str, sex: str | None) -> dict:
 
 
 def _warm() -> bool:
-    import catwalk.body.make  # noqa: F401  (imports numpy, scipy, numba's kernels)
-    import catwalk.body.measure  # noqa: F401
-    from catwalk.body.rig import measured_base_body
-
     measured_base_body(0.0)
     return True
 
@@ -85,8 +80,6 @@ class BodyMaker:
 
     def _get(self) -> concurrent.futures.ProcessPoolExecutor:
         if self._pool is None:
-            from catwalk.service.children import die_with_parent
-
             self._pool = concurrent.futures.ProcessPoolExecutor(
                 self.processes, mp_context=multiprocessing.get_context("spawn"),
                 initializer=die_with_parent)   # gone with the API, even if it is killed

@@ -16,10 +16,15 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from catwalk.catalogue.garments import catalogue_files
+from catwalk.cloth.fabrics import fabric_choices
 from catwalk.config import Config
 from catwalk.errors import CatwalkError, InputError
+from catwalk.exchange.garment_json import load_garment
 from catwalk.garment.model import Garment
-from catwalk.service.keys import sha256
+from catwalk.service.keys import garment_version
+from catwalk.service.merchant_garments import published
+from catwalk.service.store.files import Storage
 
 log = logging.getLogger("catwalk.catalogue")
 
@@ -47,23 +52,6 @@ class Entry:
                 "seams": len(g.seams), "fit": dict(g.fit), "source": dict(g.source)}
 
 
-def fabric_choices() -> list[str]:
-    """Every fabric a shopper may pick: the presets, then the measured (Petrak) fabrics."""
-    from catwalk.cloth.fabrics import PRESETS, load_petrak
-
-    return list(PRESETS) + sorted(load_petrak())
-
-
-def garment_version(path: Path, garment: Garment) -> str:
-    """The hash of the garment file and the texture images it names."""
-    parts = [sha256(path.read_bytes())]
-    for p in garment.panels:
-        if p.texture is not None:
-            img = path.parent / str(p.texture["image"])
-            parts.append(sha256(img.read_bytes()) if img.is_file() else "missing")
-    return sha256("\n".join(parts).encode())[:32]
-
-
 CHECK_EVERY_S = 1.0
 
 
@@ -89,7 +77,6 @@ class Catalogue:
         database cannot be asked."""
         if self.config is None:
             return ()
-        from catwalk.service.merchant_garments import published
 
         try:
             self._merchant = tuple(published(self.config))
@@ -105,10 +92,6 @@ class Catalogue:
                      [own] + [f for f in fabrics if f != own])
 
     def _load(self, published: tuple) -> dict[str, Entry]:
-        from catwalk.exchange.garment_json import load_garment
-        from catwalk.garment.catalogue import catalogue_files
-        from catwalk.service.storage import Storage
-
         fabrics = fabric_choices()
         out = {}
         for path in catalogue_files(self.root):

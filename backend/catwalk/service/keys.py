@@ -14,10 +14,11 @@ import json
 from pathlib import Path
 
 import catwalk
+from catwalk.garment.model import Garment
 
 # the packages whose code decides what a try-on's result is
-_ENGINE_PACKAGES = ("body", "motion", "cloth", "collide", "garment", "simulate", "exchange",
-                    "render")
+_ENGINE_PACKAGES = ("geometry", "body", "motion", "cloth", "collide", "garment", "exchange",
+                    "render", "simulate")
 
 
 def sha256(data: bytes) -> str:
@@ -55,3 +56,13 @@ def tryon_key(body_key: str, garment_id: str, garment_version: str, size: str,
         "body": body_key, "garment": garment_id, "version": garment_version, "size": size,
         "fabric": fabric, "seconds": round(float(seconds), 6), "preset": preset,
         "engine": engine_version()}))
+
+
+def garment_version(path: Path, garment: Garment) -> str:
+    """The hash of the garment file and the texture images it names."""
+    parts = [sha256(path.read_bytes())]
+    for p in garment.panels:
+        if p.texture is not None:
+            img = path.parent / str(p.texture["image"])
+            parts.append(sha256(img.read_bytes()) if img.is_file() else "missing")
+    return sha256("\n".join(parts).encode())[:32]

@@ -30,9 +30,15 @@ from sqlalchemy import and_, or_, select, update
 
 from catwalk.config import Config
 from catwalk.errors import InputError
-from catwalk.service import db
-from catwalk.service.models import GarmentVersionRow, MerchantGarmentRow, utcnow
-from catwalk.service.storage import Storage
+from catwalk.exchange.dxf import pieces_to_garment, read_dxf
+from catwalk.exchange.garment_json import garment_bytes, garment_from_dict
+from catwalk.exchange.markup import apply_markup, load_markup
+from catwalk.exchange.source import read_json
+from catwalk.garment.check import check_garment, problem
+from catwalk.service.keys import garment_version
+from catwalk.service.store import db
+from catwalk.service.store.files import Storage
+from catwalk.service.store.models import GarmentVersionRow, MerchantGarmentRow, utcnow
 
 MAX_FILES = 64                      # texture files of one upload
 TEXTURE_SUFFIXES = (".png", ".jpg", ".jpeg", ".webp")
@@ -79,8 +85,6 @@ class Prepared:
 
 
 def _problems(messages: list[str]) -> list[dict]:
-    from catwalk.garment.check import problem
-
     return [problem(m) for m in messages]
 
 
@@ -97,15 +101,10 @@ def _check_file_name(name: str) -> str:
 
 def _read_garment(upload: Upload, folder: Path, messages: list[str]):
     """The garment the upload describes (its reader's first refusal raised as a problem)."""
-    from catwalk.exchange.garment_json import garment_from_dict
-    from catwalk.exchange.source import read_json
-
     if upload.garment is not None:
         parsed, _ = read_json(upload.garment, "garment")
         return garment_from_dict(parsed, folder / "garment.json", name="garment",
                                  problems=messages)
-    from catwalk.exchange.dxf import pieces_to_garment, read_dxf
-    from catwalk.exchange.markup import apply_markup, load_markup
 
     markup = load_markup(upload.markup)
     pieces, warnings = read_dxf(upload.dxf, units=upload.units)
@@ -120,10 +119,6 @@ def prepare(storage: Storage, upload: Upload, previous: Path | None = None) -> P
     """Read and check ``upload`` in a hidden folder of the storage; raises
     :class:`UploadRejected` listing every problem (the folder removed). ``previous``: the
     garment's latest version's folder, whose textures stand in for those not sent again."""
-    from catwalk.exchange.garment_json import garment_bytes
-    from catwalk.garment.check import check_garment
-    from catwalk.service.catalogue import garment_version
-
     if (upload.garment is None) == (upload.dxf is None):
         raise InputError("send either `garment` (a garment JSON) or `dxf` with `markup`",
                          "garment")

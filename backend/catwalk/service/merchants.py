@@ -15,9 +15,9 @@ from sqlalchemy import select
 
 from catwalk.config import Config
 from catwalk.errors import InputError
-from catwalk.service import db
 from catwalk.service.keys import sha256
-from catwalk.service.models import MerchantRow, utcnow
+from catwalk.service.store import db
+from catwalk.service.store.models import MerchantRow, utcnow
 
 KEY_PREFIX = "cwk_"
 _NAME = re.compile(r"[a-z0-9][a-z0-9_-]{0,63}")

@@ -18,11 +18,20 @@ from __future__ import annotations
 import threading
 from datetime import timedelta
 
-from prometheus_client import CollectorRegistry, Counter, Histogram, ProcessCollector
+from prometheus_client import (
+    CollectorRegistry,
+    Counter,
+    Histogram,
+    ProcessCollector,
+    generate_latest,
+)
 from prometheus_client.core import GaugeMetricFamily
 from sqlalchemy import func, select
 
 from catwalk.config import Config
+from catwalk.service.jobs import app as queue
+from catwalk.service.store import db
+from catwalk.service.store.models import STATES, TryOnRow, WorkerRow, utcnow
 
 WORKER_ALIVE_S = 30.0
 STAGE_BUCKETS = (0.05, 0.1, 0.25, 0.5, 1, 2, 5, 10, 20, 40, 80, 160, 320)
@@ -36,9 +45,6 @@ class JobsCollector:
         self.config = config
 
     def collect(self):
-        from catwalk.service import db, queue
-        from catwalk.service.models import STATES, TryOnRow, WorkerRow, utcnow
-
         jobs = GaugeMetricFamily("catwalk_jobs", "Try-on jobs by state", labels=["state"])
         alive = GaugeMetricFamily("catwalk_workers_alive",
                                   "Worker processes seen in the last 30 s")
@@ -71,8 +77,6 @@ class Metrics:
     """This API process's metrics."""
 
     def __init__(self, config: Config):
-        from catwalk.service.models import utcnow
-
         self.config = config
         self.registry = CollectorRegistry()
         self.cache = Counter("catwalk_tryon_cache", "Try-on requests answered from the cache "
@@ -94,9 +98,6 @@ class Metrics:
 
     def observe_finished(self) -> None:
         """Add the stage timings of the jobs that ended since the last call."""
-        from catwalk.service import db
-        from catwalk.service.models import TryOnRow
-
         with self._lock:
             try:
                 with db.session(self.config) as s:
@@ -116,7 +117,5 @@ class Metrics:
                 self.total.labels(status).observe(float(sum(timings.values())))
 
     def exposition(self) -> bytes:
-        from prometheus_client import generate_latest
-
         self.observe_finished()
         return generate_latest(self.registry)

@@ -20,8 +20,13 @@ import sys
 import threading
 import time
 
+import uvicorn
+
 from catwalk.config import get_config
+from catwalk.service import logs
+from catwalk.service.api.app import create_app
 from catwalk.service.children import die_with_parent
+from catwalk.service.store import db
 
 log = logging.getLogger("catwalk.serve")
 
@@ -36,7 +41,7 @@ class WorkerProcess(threading.Thread):
         self.stopping = threading.Event()
 
     def _start(self) -> subprocess.Popen:
-        cmd = [sys.executable, "-m", "catwalk.cli", "worker",
+        cmd = [sys.executable, "-m", "catwalk.cli.main", "worker",
                f"--concurrency={self.concurrency}"]
         return subprocess.Popen(cmd, start_new_session=True, preexec_fn=die_with_parent)
 
@@ -70,11 +75,6 @@ class WorkerProcess(threading.Thread):
 
 
 def main(host: str = "127.0.0.1", port: int = 8000, workers: int | None = None) -> int:
-    import uvicorn
-
-    from catwalk.service import db, logs
-    from catwalk.service.api.app import create_app
-
     config = get_config()
     logs.configure(config.log_level)
     db.migrate(config)

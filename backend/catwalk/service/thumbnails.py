@@ -15,6 +15,18 @@ import json
 import logging
 from pathlib import Path
 
+import numpy as np
+from PIL import Image
+
+from catwalk.catalogue.bodies import sample_body
+from catwalk.exchange.compress import compress_bytes
+from catwalk.exchange.scene import scene_of
+from catwalk.fileio import atomic_path
+from catwalk.render.preview import render_meshes
+from catwalk.service.keys import engine_version
+from catwalk.simulate.fitcheck import sample_for
+from catwalk.simulate.tryon import tryon
+
 log = logging.getLogger("catwalk.api")
 
 SIZE = (240, 360)
@@ -23,13 +35,6 @@ SIZE = (240, 360)
 def dressed_files(res, workdir: Path) -> tuple[bytes, bytes]:
     """A dressed, standing try-on as the catalogue shows it: the meshopt .glb and the front
     view PNG."""
-    import numpy as np
-    from PIL import Image
-
-    from catwalk.exchange.compress import compress_bytes
-    from catwalk.exchange.scene import scene_of
-    from catwalk.render.preview import render_meshes
-
     web, _ = compress_bytes(res.glb(normals=False), workdir=workdir)
     scene = scene_of(res.body, None, [res.frames()])
     meshes = [(v, f, rgb) for _, v, f, rgb in scene.meshes_at(0.0)]
@@ -42,13 +47,9 @@ def dressed_files(res, workdir: Path) -> tuple[bytes, bytes]:
 def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str,
                      out: str) -> str:
     """(In a pool process.) Dress the garment on the sample body, render it, write ``out``."""
-    import catwalk
-    from catwalk.body.commands import sample_body
-    from catwalk.fileio import atomic_path
-
     body = sample_body(sample, Path(samples_dir))
-    res = catwalk.tryon(body, garment_path, size=size, seconds=0, preset="fast",
-                        measure=False, garment_id=Path(garment_path).stem)
+    res = tryon(body, garment_path, size=size, seconds=0, preset="fast",
+                measure=False, garment_id=Path(garment_path).stem)
     web, png = dressed_files(res, Path(out).parent)
     with atomic_path(Path(out).with_suffix(".glb")) as tmp:
         tmp.write_bytes(web)
@@ -60,8 +61,6 @@ def render_thumbnail(garment_path: str, size: str, sample: str, samples_dir: str
 def thumbnail_path(storage, garment_id: str, version: str) -> Path:
     """Where a garment version's thumbnail is (its dressed .glb beside it): keyed by the
     garment's version and the engine's, so new code draws them anew."""
-    from catwalk.service.keys import engine_version
-
     return storage.thumbnail(garment_id, f"{version}-{engine_version()[-16:]}")
 
 
@@ -89,8 +88,6 @@ class Thumbnails:
         return task
 
     async def _make(self, entry) -> None:
-        from catwalk.simulate.fitcheck import sample_for
-
         key = (entry.id, entry.version)
         g = entry.garment
         size = g.size(None)

@@ -1,7 +1,7 @@
 """Contacts: what a detection returns — the cloth points held at this response and the contact
 planes of those points and of the points near the body (within the collider's ``plane_band``)
 — from each contact source (the body's collider, the catwalk's floor), merged, and kept in the
-cloth :class:`~catwalk.cloth.model.State` until the next response (the solver keeps every
+cloth :class:`~catwalk.cloth.state.State` until the next response (the solver keeps every
 point with a plane on its side in between: docs/cloth.md)."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from catwalk.cloth.model import PLANE_COLUMNS, State
+from catwalk.cloth.state import PLANE_COLUMNS, State
 
 
 class Contacts(NamedTuple):

@@ -5,12 +5,12 @@
    pushes out whatever starts inside the body (three passes), velocities start at zero.
 2. **Sew**: seam springs pull partner points together (k = ω²·m with m the median point mass,
    critically damped), gravity off and extra air drag, body friction off, and points touching the
-   body are *not* fixed in the strain limit (:class:`~catwalk.cloth.solver.Solver`
+   body are *not* fixed in the strain limit (:class:`~catwalk.cloth.solvers.explicit.solver.Solver`
    ``held_fixed=False``) so panels slide round the body instead of being pinned where they touch
    it. A seam spring pulls as if its gap were at most ``SEAM_REACH`` (1 cm, in
-   :mod:`catwalk.cloth.kernels`), so far partners approach at a bounded speed. Sewing stops
-   when every pair is within ``weld_gap``, when neither the widest nor the mean gap shrank by
-   2 % in ``sew_stall_seconds`` (0.3 s; not before 0.8 s), or after ``sew_seconds`` of
+   :mod:`catwalk.cloth.solvers.explicit.kernels`), so far partners approach at a bounded speed.
+   Sewing stops when every pair is within ``weld_gap``, when neither the widest nor the mean gap
+   shrank by 2 % in ``sew_stall_seconds`` (0.3 s; not before 0.8 s), or after ``sew_seconds`` of
    simulated time.
 3. **Weld**: pairs within ``weld_reach`` become one particle
    (:func:`~catwalk.simulate.garment_cloth.weld`); the others keep pulling while the garment
@@ -62,8 +62,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from catwalk.cloth.model import ClothModel, State
-from catwalk.cloth.solver import ClothExplosionError, Solver, max_strain
+from catwalk.cloth.model import ClothModel
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.cloth.solvers.explicit.solver import Solver, max_strain
+from catwalk.cloth.state import State
 from catwalk.collide import make_collider
 from catwalk.errors import Cancelled, InputError, SimulationError
 from catwalk.simulate.contacts import Floor, body_contacts, keep

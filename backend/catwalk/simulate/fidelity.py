@@ -19,6 +19,8 @@ unmoved one's is the noise floor a distance must clear to mean anything (``bench
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from catwalk.errors import InputError
@@ -38,8 +40,6 @@ NUDGE = 1e-4   # m: the noise floor's move of the drape
 def nudged(dressed, metres: float = NUDGE):
     """A copy of ``dressed`` (a :class:`~catwalk.simulate.dressing.Dressed`) with its cloth
     moved ``metres`` along x."""
-    from dataclasses import replace
-
     state = dressed.state.copy()
     state.positions[:, 0] += metres
     return replace(dressed, state=state)

@@ -11,7 +11,7 @@ the ``fast`` preset by default) and the result is checked three ways:
   is only looked at once the garment has settled) and the result is then refused all the same
   (no :class:`~catwalk.simulate.tryon.TryOn` is returned);
 - **no penetration**: the deepest cloth point inside the body, measured independently of the
-  collider (:mod:`catwalk.simulate.metrics`) on the cloth as shown (``Dressed.display``)
+  collider (:mod:`catwalk.geometry.surface`) on the cloth as shown (``Dressed.display``)
   against the body it was dressed on, within ``PENETRATION_LIMIT_MM``;
 - **strain within limit**: the stretch/shear springs' largest strain after the dressing
   (``Dressed.stats["max_strain"]``) within the fabric's limit τ plus ``STRAIN_TOLERANCE``.
@@ -26,11 +26,19 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.errors import SimulationError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.geometry.surface import BodySurface, penetration
+from catwalk.simulate.dressing import seam_names
+from catwalk.simulate.tryon import resolve_settings, tryon
+from catwalk.simulate.walking import strain_of
 
 if TYPE_CHECKING:
     from catwalk.simulate.tryon import TryOn
@@ -71,9 +79,6 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
     report keeps). :class:`~catwalk.errors.InputError` (bad garment, size, preset) and
     :class:`~catwalk.errors.Cancelled` (``cancel()`` returned true) are raised.
     """
-    import catwalk
-    from catwalk.simulate.tryon import resolve_settings
-
     t0 = time.perf_counter()
     settings = resolve_settings(preset)
     seam_limit = settings.max_open_gap
@@ -89,9 +94,9 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
         "message": "", "seconds": None,
     }
     try:
-        res = catwalk.tryon(body, garment, size=size, seconds=0,
-                            preset=settings.with_(max_open_gap=_NEVER_REFUSE_M), measure=False,
-                            cancel=cancel)
+        res = tryon(body, garment, size=size, seconds=0,
+                    preset=settings.with_(max_open_gap=_NEVER_REFUSE_M), measure=False,
+                    cancel=cancel)
     except SimulationError as exc:   # InputError and Cancelled are not: they go up
         report["message"] = f"could not be dressed: {exc}"
         report["seconds"] = round(time.perf_counter() - t0, 2)
@@ -108,8 +113,6 @@ def dressing_check(body, garment, size: str | None, *, preset="fast",
                             for name, g in sorted(gaps.items(), key=lambda kv: -kv[1])
                             if g > 1e3 * seam_limit]
     # penetration: the cloth as shown against the body it was dressed on (its rest pose)
-    from catwalk.simulate.dressing import seam_names
-    from catwalk.simulate.metrics import BodySurface, penetration
 
     b = res.body
     surface = BodySurface(b.faces, len(b.vertices))
@@ -156,9 +159,6 @@ AT_LIMIT = 0.005
 def _explain_open_seams(open_seams: list[dict], d, body, surface, names: list[str]) -> None:
     """Add to each open seam where its widest pair is: how far the body lies between its two
     sides, the largest strain of the springs at them, and the reason that makes."""
-    from catwalk.simulate.metrics import penetration
-    from catwalk.simulate.walking import strain_of
-
     m, x = d.model, d.state.positions
     gap = np.linalg.norm(x[m.seam_b] - x[m.seam_a], axis=1)
     strain = strain_of(m, x)
@@ -248,12 +248,6 @@ def sample_for(garment, size: str) -> str:
 def run(paths=None, preset: str = "fast", samples_dir=None, log=None) -> list[dict]:
     """:func:`dressing_check` on every garment in ``paths`` (default: the catalogue's
     garments/*.json) in every size, on its sample body; one row per size."""
-    from pathlib import Path
-
-    from catwalk.body.commands import sample_body
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.catalogue import catalogue_files
-
     paths = [Path(p) for p in paths] if paths else catalogue_files()
     bodies, rows = {}, []
     for path in paths:
@@ -298,27 +292,3 @@ def format_table(rows: list[dict]) -> str:
         if not r["ok"]:
             lines.append(f"{r['garment']} {r['size']}: {r['message']}")
     return "\n".join(lines)
-
-
-def add_arguments(ap) -> None:
-    """``catwalk garment dress-check``'s arguments."""
-    ap.add_argument("garments", nargs="*", help="garment JSON files (default: garments/*.json)")
-    ap.add_argument("--preset", default="fast", choices=["fast", "balanced", "accurate"])
-    ap.add_argument("--samples-dir", default=None,
-                    help="where sample bodies are made and kept (default: bodies/generated)")
-    ap.add_argument("--json", action="store_true", help="the reports as JSON")
-
-
-def main(args) -> int:
-    """``catwalk garment dress-check``: a table (or JSON) of every size's check; exit 3 when a
-    size does not dress."""
-    import json
-    import sys
-
-    def log(row):
-        print(f"{row['garment']} {row['size']} on {row['body']}: {row['seconds']} s, "
-              f"{'ok' if row['ok'] else row['message']}", file=sys.stderr)
-
-    rows = run(args.garments, args.preset, args.samples_dir, log)
-    print(json.dumps(rows, indent=1) if args.json else format_table(rows))
-    return 0 if all(r["ok"] for r in rows) else 3

@@ -19,10 +19,9 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
 from catwalk.cloth.builder import Panel, Seam, adjacency, build_cloth
-from catwalk.cloth.fabrics import Fabric
+from catwalk.cloth.fabrics import Fabric, resolve_fabric
 from catwalk.cloth.model import ClothModel
 from catwalk.errors import InputError
-from catwalk.garment.check import resolve_fabric
 from catwalk.garment.model import Garment, cut_pieces
 from catwalk.garment.place import place_panels
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-from catwalk.cloth.solver import INTEGRATORS
+from catwalk.cloth.solvers.explicit.solver import INTEGRATORS
 from catwalk.collide import MODES, Skips
 from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
@@ -34,13 +34,13 @@ class Settings:
 
     Cloth: ``h`` grid spacing (m), ``method`` strain limit (the paper's ``ordered``),
     ``step_safety`` the share of the cloth's stable time step (eq. 4's bound,
-    :class:`~catwalk.cloth.solver.Solver`) its steps take — above 1 the explicit integration
-    blows up, so it is refused (``catwalk bench stress`` shows the evidence).
+    :class:`~catwalk.cloth.solvers.explicit.solver.Solver`) its steps take — above 1 the explicit
+    integration blows up, so it is refused (``catwalk bench stress`` shows the evidence).
     ``integrator``: ``explicit`` (the paper's, the default) or ``xpbd`` (XPBD steps of
     ``xpbd_dt`` seconds with ``xpbd_iterations`` sweeps each, the ordered pass as their final
-    clamp: :class:`~catwalk.cloth.solver.Solver`; the walk only — dressing stays explicit).
-    Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
-    cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
+    clamp: :class:`~catwalk.cloth.solvers.explicit.solver.Solver`; the walk only — dressing stays
+    explicit). Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness``
+    (m) the cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
     the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame,
     ``plane_band`` (m): in the walk, points not held but within this of the body's surface

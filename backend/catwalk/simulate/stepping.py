@@ -17,9 +17,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from catwalk.cloth.kernels import cap_speed
-from catwalk.cloth.model import ClothModel, State
-from catwalk.cloth.solver import ClothExplosionError, Solver
+from catwalk.cloth.contact_planes import cap_speed
+from catwalk.cloth.model import ClothModel
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.cloth.solvers.explicit.solver import Solver
+from catwalk.cloth.state import State
 from catwalk.errors import Cancelled
 from catwalk.simulate.contacts import Floor, body_contacts, keep
 from catwalk.simulate.settings import Settings

@@ -19,11 +19,20 @@ from pathlib import Path
 
 import numpy as np
 
+from catwalk.body.from_scan import body_from_scan
 from catwalk.body.types import Body, Motion
+from catwalk.cloth.fabrics import resolve_fabric
 from catwalk.errors import InputError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.exchange.gltf import load_glb, read_body
+from catwalk.exchange.scan import load_scan
+from catwalk.exchange.tryon_glb import tryon_bytes
+from catwalk.fileio import atomic_path
+from catwalk.garment.check import require_valid
+from catwalk.garment.frames import GarmentFrames
 from catwalk.garment.model import Garment
+from catwalk.motion.gait import walk_motion
 from catwalk.simulate.dressing import Dressed, dress
-from catwalk.simulate.frames import GarmentFrames
 from catwalk.simulate.progress import Progress, tryon_plan
 from catwalk.simulate.settings import PRESETS, Settings, preset
 from catwalk.simulate.walking import Walked, blend_frame_count, walk
@@ -69,15 +78,11 @@ class TryOn:
         """The try-on .glb (docs/tryon-format.md): byte-identical for the same inputs.
         ``normals=False``: without the garment's per-frame normals (the web copy: a player
         computes them)."""
-        from catwalk.exchange.tryon_glb import tryon_bytes
-
         return tryon_bytes(self.body, self.motion, [self.frames()],
                            extras={"metrics": self.file_metrics()}, normals=normals)
 
     def write(self, path: str | Path) -> None:
         """Write :meth:`glb` to ``path`` atomically."""
-        from catwalk.fileio import atomic_path
-
         data = self.glb()
         with atomic_path(path) as tmp:
             tmp.write_bytes(data)
@@ -85,7 +90,7 @@ class TryOn:
 
 def garment_frames(dressed: Dressed, times: np.ndarray, positions: np.ndarray,
                    name: str | None = None) -> GarmentFrames:
-    """The simulated garment as :class:`~catwalk.simulate.frames.GarmentFrames`: one vertex
+    """The simulated garment as :class:`~catwalk.garment.frames.GarmentFrames`: one vertex
     per pattern point (panels keep their own UVs along seams)."""
     gc = dressed.cloth
     m = gc.model
@@ -111,8 +116,6 @@ def load_body(body, cancel=None) -> Body:
     STL, or a GLB with no skin), registered to the template as ``catwalk body from-scan``
     does (``cancel()`` asked between its stages)."""
     if not isinstance(body, Body):
-        from catwalk.exchange.gltf import read_body
-
         if isinstance(body, (str, Path)) and not Path(body).is_file():
             raise InputError(f"body {body}: no such file", "body")
         if isinstance(body, (str, Path)) and (Path(body).suffix.lower() != ".glb"
@@ -128,8 +131,6 @@ def load_body(body, cancel=None) -> Body:
 def _has_skin(path) -> bool:
     """Whether the .glb at ``path`` has a skin (a body) rather than none (a scan); a file that
     is no readable GLB is left to the body reader's message."""
-    from catwalk.exchange.gltf import load_glb
-
     try:
         doc, _ = load_glb(path)
     except (InputError, ValueError, OSError):
@@ -139,9 +140,6 @@ def _has_skin(path) -> bool:
 
 def body_of_scan(path, cancel=None) -> Body:
     """The template registered to the scan at ``path`` (see :mod:`catwalk.body.from_scan`)."""
-    from catwalk.body.from_scan import body_from_scan
-    from catwalk.exchange.scan import load_scan
-
     scan = load_scan(path)
     try:
         return body_from_scan(scan, cancel=cancel)[0]
@@ -153,9 +151,6 @@ def load_checked_garment(garment, base_dir: str | Path | None = None) -> Garment
     """A garment that passes ``catwalk garment check``: a :class:`Garment`, a parsed dict, or
     a garment JSON file as a path, bytes or a file object (textures relative to its folder,
     or to ``base_dir``)."""
-    from catwalk.exchange.garment_json import load_garment
-    from catwalk.garment.check import require_valid
-
     if not isinstance(garment, Garment):
         garment = load_garment(garment, base_dir=base_dir)
     folder = garment.path.parent if garment.path is not None else (
@@ -167,8 +162,6 @@ def load_checked_garment(garment, base_dir: str | Path | None = None) -> Garment
 def check_options(garment: Garment, *, size: str | None, fabric, seconds: float, fps: float,
                   settings: Settings) -> str:
     """Check the options against the garment before any work; returns the size used."""
-    from catwalk.garment.check import resolve_fabric
-
     if not isinstance(seconds, (int, float)) or not math.isfinite(seconds) \
             or not SECONDS[0] <= seconds <= SECONDS[1]:
         raise InputError(f"seconds must be within 0–{SECONDS[1]:g} (0: dressed, standing), "
@@ -245,8 +238,6 @@ def tryon(body, garment, *, size: str | None = None, fabric=None, seconds: float
               cancel=progress.cancelled)
     w = None
     if walking:
-        from catwalk.motion.gait import walk_motion
-
         progress.enter("gait")
         motion = walk_motion(body, seconds, speed=speed, style=style, fps=fps)
         w = walk(body, motion, d, settings, progress=progress, cancel=progress.cancelled,

@@ -9,10 +9,10 @@ fastest vertex (it moves at most ``settings.max_move`` between two resolves, cla
 ``min_collisions`` … ``max_collisions``; a frame whose cloth blows up is run again with twice
 the resolves, up to 4 × ``max_collisions``); the cloth solver runs at its own stable step in
 between, and after each resolve Provot's position correction
-(:meth:`~catwalk.cloth.solver.Solver.after_collision`) lets the cloth round the pushed points
-follow them. One more resolve at the frame's time ends every frame, so the recorded positions
-are the body's (that correction may pull free points a little into the body: measured on the
-small try-on test, a swinging hand left a skirt point 4.5 mm inside without it, 0 with it).
+(:meth:`~catwalk.cloth.solvers.explicit.solver.Solver.after_collision`) lets the cloth round the
+pushed points follow them. One more resolve at the frame's time ends every frame, so the recorded
+positions are the body's (that correction may pull free points a little into the body: measured on
+the small try-on test, a swinging hand left a skirt point 4.5 mm inside without it, 0 with it).
 Recorded: the cloth on every motion frame, per pattern point (so each panel keeps its
 UVs), and the costs and errors of every frame.
 """
@@ -26,15 +26,16 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from catwalk.body.skinning import body_frames
 from catwalk.body.types import Motion
-from catwalk.cloth.solver import ClothExplosionError, Solver
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.collide import make_collider
 from catwalk.collide.kernels import STAT_NAMES
 from catwalk.errors import Cancelled
-from catwalk.motion.skinning import body_frames
+from catwalk.geometry.surface import BodySurface, segments_crossing
 from catwalk.simulate.dressing import Dressed
 from catwalk.simulate.garment_cloth import seam_gaps
-from catwalk.simulate.metrics import BodySurface, segments_crossing
 from catwalk.simulate.settings import PRESETS, Settings
 from catwalk.simulate.stepping import (
     ORDER_TOLERANCE,
@@ -62,7 +63,9 @@ class Walked:
 
 
 def _quat_rest(skeleton) -> tuple[np.ndarray, np.ndarray]:
-    from scipy.spatial.transform import Rotation
+    from scipy.spatial.transform import (
+        Rotation,  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
+    )  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
 
     r = skeleton.rest_local
     return Rotation.from_matrix(r[:, :3, :3]).as_quat(), r[:, :3, 3].copy()
@@ -114,7 +117,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
          cancel: Callable[[], bool] | None = None, measure: bool = True) -> Walked:
     """Play ``motion`` on ``body`` with the ``dressed`` garment following (module docstring).
     ``measure``: also measure penetration with the independent check of
-    :mod:`catwalk.simulate.metrics` on every frame (costs ≈ 20 ms a frame)."""
+    :mod:`catwalk.geometry.surface` on every frame (costs ≈ 20 ms a frame)."""
     settings = (settings or PRESETS["balanced"]).check()
     progress = progress or quiet
     cancel = cancel or never

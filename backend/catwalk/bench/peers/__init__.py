@@ -32,6 +32,18 @@ from pathlib import Path
 
 import numpy as np
 
+from catwalk.bench import (
+    add_output_flags,
+    add_walk_seconds,
+    check_walk_seconds,
+    cpu_model,
+    progress_lines,
+)
+from catwalk.bench.peers.scene import measure, paper_scene, rms_mm, welded
+from catwalk.cloth.solvers import ClothExplosionError
+from catwalk.errors import InputError
+from catwalk.simulate.walking import walk
+
 HERE = Path(__file__).resolve().parent
 PEERS = ("blender", "newton")
 PEER_TIMEOUT_S = 600
@@ -123,8 +135,6 @@ def run_peer(peer: str, scene_path: Path, out_path: Path, args: list[str],
 def _peer_row(scene, r: dict) -> dict:
     """A peer's row: its ms per frame over the recorded frames it reached, and the measures
     when it reached them all (``incomplete``: how many it did, when not)."""
-    from catwalk.bench.peers.scene import measure
-
     row = {"settings": r.get("info", {})}
     if r.get("error"):
         row["error"] = r["error"]
@@ -146,10 +156,6 @@ def _peer_row(scene, r: dict) -> dict:
 
 
 def _catwalk_rows(scene, progress) -> dict:
-    from catwalk.bench.peers.scene import measure, welded
-    from catwalk.cloth.solver import ClothExplosionError
-    from catwalk.simulate.walking import walk
-
     rows = {}
     for mode in ("hybrid", "object"):
         say = progress or (lambda *a: None)
@@ -180,9 +186,6 @@ def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, progress=No
         keep: str | None = None) -> dict:
     """Dress the scene, walk it with catwalk, run each peer on it, measure them all.
     ``keep``: a directory to keep the scene and the peers' results in."""
-    from catwalk.bench import cpu_model
-    from catwalk.bench.peers.scene import paper_scene, rms_mm
-
     say = progress or (lambda *a: None)
     say("dressing the paper's scene")
     scene = paper_scene(seconds)
@@ -244,8 +247,6 @@ def format_table(r: dict) -> str:
 
 
 def register(bench) -> None:
-    from catwalk.bench import add_output_flags, add_walk_seconds
-
     p = bench.add_parser(
         "peers", help="the paper's scene simulated by Blender's cloth and by Newton beside "
         "catwalk: ms per frame, penetration, strain",
@@ -264,9 +265,6 @@ def register(bench) -> None:
 
 
 def main(args) -> int:
-    from catwalk.bench import check_walk_seconds, progress_lines
-    from catwalk.errors import InputError
-
     check_walk_seconds(args.seconds)
     for q in args.blender_quality:
         if not 1 <= q <= 200:

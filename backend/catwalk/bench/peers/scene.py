@@ -8,7 +8,7 @@ blend into the catwalk gait, the gait). A peer starts from the dressed garment (
 are its rest shape too: no peer here reads a sewing pattern) and moves it with the body.
 
 The measures are the walk's own (:mod:`catwalk.simulate.walking`): the independent
-penetration check of :mod:`catwalk.simulate.metrics` on every recorded frame (max, and the
+penetration check of :mod:`catwalk.geometry.surface` on every recorded frame (max, and the
 99th percentile over frames of each frame's 99th percentile) and the strain of the welded
 model's stretch and shear springs against their pattern rest lengths.
 """
@@ -19,6 +19,11 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from catwalk.bench.paper import paper_dressed
+from catwalk.geometry.surface import BodySurface, penetration
+from catwalk.simulate.fidelity import vertex_rms
+from catwalk.simulate.walking import strain_of, walk_body_frames
 
 
 @dataclass
@@ -58,9 +63,6 @@ class PeerScene:
 
 def paper_scene(seconds: float, size: str = "M", progress=None) -> PeerScene:
     """Dress the paper's scene once and skin the body for every frame of the walk."""
-    from catwalk.bench.paper import paper_dressed
-    from catwalk.simulate.walking import walk_body_frames
-
     body, motion, settings, dressed = paper_dressed(seconds, size, progress)
     frames, _, n_pre = walk_body_frames(body, motion, settings, progress=progress)
     return PeerScene(body, dressed, motion, settings, frames, n_pre, settings.h)
@@ -76,9 +78,6 @@ def welded(dressed, pattern_positions: np.ndarray) -> np.ndarray:
 def measure(scene: PeerScene, positions: np.ndarray) -> dict:
     """Penetration and strain of ``positions`` (one per recorded frame, welded points), and
     whether every value is finite."""
-    from catwalk.simulate.metrics import BodySurface, penetration
-    from catwalk.simulate.walking import strain_of
-
     if not np.all(np.isfinite(positions)):
         return {"finite": False}
     surface = BodySurface(scene.body.faces, len(scene.body.vertices))
@@ -100,6 +99,4 @@ def measure(scene: PeerScene, positions: np.ndarray) -> dict:
 def rms_mm(a: np.ndarray, b: np.ndarray) -> float:
     """Per-vertex RMS distance (mm) between two runs over the recorded frames
     (:func:`catwalk.simulate.fidelity.vertex_rms`, rounded to 0.1 mm)."""
-    from catwalk.simulate.fidelity import vertex_rms
-
     return round(1e3 * vertex_rms(a, b), 1)

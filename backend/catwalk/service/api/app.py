@@ -13,18 +13,22 @@ import contextlib
 import gc
 import json
 import logging
+import time
 from pathlib import Path
 
 from fastapi import FastAPI, Request
+from fastapi.responses import FileResponse
 
 from catwalk.config import Config, get_config
 from catwalk.service.api import errors
-from catwalk.service.api.errors import UploadTooLarge
+from catwalk.service.api.errors import ApiError, UploadTooLarge
 from catwalk.service.api.routes import bodies, garments, health, merchant, tryons
 from catwalk.service.bodies import BodyMaker
 from catwalk.service.catalogue import Catalogue
+from catwalk.service.jobs.recovery import Recovery
 from catwalk.service.metrics import Metrics
-from catwalk.service.storage import Storage
+from catwalk.service.store import db
+from catwalk.service.store.files import Storage
 from catwalk.service.thumbnails import Thumbnails
 
 log = logging.getLogger("catwalk.api")
@@ -92,7 +96,6 @@ class TimeRequests:
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
             return await self.app(scope, receive, send)
-        import time
 
         t0 = time.perf_counter()
         code = [500]
@@ -121,10 +124,6 @@ def _serve_pages(app: FastAPI, root: Path) -> None:
     """The built pages at ``/``: a file of ``root`` if the path names one, else ``index.html``
     (the pages route on the path themselves: /garments/{id}, /body, /tryon/{id}, /compare).
     Hashed assets are immutable; index.html is revalidated."""
-    from fastapi.responses import FileResponse
-
-    from catwalk.service.api.errors import ApiError
-
     root = root.resolve()
 
     @app.get("/{path:path}", include_in_schema=False)
@@ -218,9 +217,6 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
                frontend: Path | None = None) -> FastAPI:
     """The API. ``recovery``: run the recovery loop in this process; ``frontend``: the built
     pages (a folder with index.html), served at ``/`` when it exists."""
-    from catwalk.service import db
-    from catwalk.service.worker import Recovery
-
     config = config or get_config()
 
     @contextlib.asynccontextmanager

@@ -10,8 +10,9 @@ import asyncio
 from fastapi import Request
 
 from catwalk.config import Config
+from catwalk.service.api.errors import ApiError
 from catwalk.service.catalogue import Catalogue
-from catwalk.service.storage import Storage
+from catwalk.service.store.files import Storage
 
 
 async def config(request: Request) -> Config:
@@ -34,8 +35,6 @@ async def catalogue(request: Request) -> Catalogue:
 
 async def json_body(request: Request) -> None:
     """Refuse (415) a request body that is not declared as JSON."""
-    from catwalk.service.api.errors import ApiError
-
     ctype = request.headers.get("content-type", "").split(";")[0].strip().lower()
     if ctype != "application/json":
         raise ApiError(415, f"send the request as application/json, not {ctype or 'nothing'}")

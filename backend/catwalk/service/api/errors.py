@@ -17,6 +17,7 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 
 from catwalk.errors import InputError
 
@@ -87,8 +88,6 @@ def allowed_methods(request: Request) -> list[str]:
     route's in a 405's ``Allow``: ``GET`` where ``DELETE`` is allowed too). Each method is
     tried against the routes (FastAPI nests included routers), the pages' GET fallback
     left out."""
-    from starlette.routing import Match
-
     allowed = []
     for method in METHODS:
         scope = {**request.scope, "method": method}

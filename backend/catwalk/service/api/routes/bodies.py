@@ -18,12 +18,15 @@ from pydantic import ValidationError
 
 from catwalk.config import Config
 from catwalk.errors import InputError
-from catwalk.service import db, jobs, keys
+from catwalk.exchange.scan import sniff_format
+from catwalk.service import keys
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, UploadTooLarge, check_id, not_found
 from catwalk.service.api.files import file_response
 from catwalk.service.bodies import make_from_measurements, make_from_scan
-from catwalk.service.models import BodyRow
+from catwalk.service.jobs import lifecycle as jobs
+from catwalk.service.store import db
+from catwalk.service.store.models import BodyRow
 
 router = APIRouter(prefix="/api/bodies", tags=["bodies"])
 log = logging.getLogger("catwalk.api")
@@ -81,8 +84,6 @@ async def _measurements(request: Request) -> schemas.Measurements:
 
 
 async def _scan(request: Request) -> tuple[bytes, str, str | None]:
-    from catwalk.exchange.scan import sniff_format
-
     try:
         form = await request.form(max_files=1, max_fields=4)
     except UploadTooLarge:

@@ -8,10 +8,15 @@ import functools
 from fastapi import APIRouter, Depends, Query, Request
 from fastapi.responses import Response
 
+from catwalk.catalogue.bodies import load_recipes
 from catwalk.errors import InputError
+from catwalk.render.pattern import pattern_png
 from catwalk.service.api import deps, schemas
-from catwalk.service.api.errors import ApiError, not_found
+from catwalk.service.api.errors import ApiError, check_id, not_found
 from catwalk.service.api.files import PUBLIC_IMMUTABLE, file_response, not_modified
+from catwalk.service.sizes import advise
+from catwalk.service.store import db
+from catwalk.service.store.models import BodyRow
 
 router = APIRouter(prefix="/api/garments", tags=["garments"])
 
@@ -84,8 +89,6 @@ async def dressed(garment_id: schemas.GarmentId, request: Request,
 
 
 def _pattern(entry, size):
-    from catwalk.render.pattern import pattern_png
-
     return pattern_png(entry.garment, size)
 
 
@@ -117,8 +120,6 @@ def _recipes(path) -> list[dict]:
 
 @functools.lru_cache(maxsize=4)
 def _recipes_of(path, _mtime_ns: int, _size: int) -> list[dict]:
-    from catwalk.body.commands import load_recipes
-
     return load_recipes(path)
 
 
@@ -128,11 +129,6 @@ def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
           config=Depends(deps.config), catalogue=Depends(deps.catalogue)) -> dict:
     """Size advice: each size's chart (the sample body it was made for) against the body's
     girths, the ease (chart − body, metres), whether it fits, and the size recommended."""
-    from catwalk.service import db
-    from catwalk.service.api.errors import check_id
-    from catwalk.service.models import BodyRow
-    from catwalk.service.sizes import advise
-
     entry = _entry(catalogue, garment_id)
     check_id(body_id, "body", "body_id")
     with db.session(config) as s:

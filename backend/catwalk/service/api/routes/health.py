@@ -7,9 +7,12 @@ import time
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import JSONResponse, PlainTextResponse, Response
+from prometheus_client import CONTENT_TYPE_LATEST
 
 from catwalk.config import Config
 from catwalk.service.api import deps, schemas
+from catwalk.service.jobs import app as queue
+from catwalk.service.store import db
 
 router = APIRouter(tags=["health"])
 
@@ -33,8 +36,6 @@ def _probe(name: str, fn) -> dict:
                              "content": {"text/plain": {"schema": {"type": "string"}}}}})
 async def metrics(request: Request):
     """The service's metrics in Prometheus's text format (catwalk/service/metrics.py)."""
-    from prometheus_client import CONTENT_TYPE_LATEST
-
     body = await asyncio.to_thread(request.app.state.metrics.exposition)
     return Response(body, media_type=CONTENT_TYPE_LATEST)
 
@@ -43,8 +44,6 @@ async def metrics(request: Request):
             responses={503: {"model": schemas.Readiness,
                              "description": "a check failed (its `error` says why)"}})
 async def readyz(config: Config = Depends(deps.config), storage=Depends(deps.storage)):
-    from catwalk.service import db, queue
-
     checks = await asyncio.to_thread(lambda: {
         "database": _probe("database", lambda: db.ping(config)),
         "broker": _probe("broker", lambda: queue.ping(config)),

@@ -12,17 +12,21 @@ from __future__ import annotations
 
 import asyncio
 import json
+import mimetypes
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import JSONResponse, Response
 
 from catwalk.config import Config
 from catwalk.errors import InputError
+from catwalk.exchange.dxf import pieces_to_garment, read_dxf
+from catwalk.exchange.garment_json import garment_to_dict
 from catwalk.service import merchant_garments as mg
 from catwalk.service import merchants
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, UploadTooLarge, error_body
 from catwalk.service.api.files import file_response
+from catwalk.service.jobs.app import send_check
 
 router = APIRouter(prefix="/api/merchant", tags=["merchant"])
 
@@ -122,8 +126,6 @@ def _rejected(exc: mg.UploadRejected) -> JSONResponse:
 def _save(config: Config, storage, catalogue, who, upload: mg.Upload,
           garment_id: str | None) -> dict:
     """Check and store the upload as a new garment or the next version; queue its check."""
-    from catwalk.service.checks import send_check
-
     previous = None if garment_id is None else \
         mg.latest_folder(config, storage, who.id, garment_id)
     prepared = mg.prepare(storage, upload, previous)
@@ -258,8 +260,6 @@ async def version_file(garment_id: str, version: int, name: str, request: Reques
                        config: Config = Depends(deps.config), storage=Depends(deps.storage),
                        who=Depends(merchant)):
     """A file of the version: ``garment.json`` or a texture it names."""
-    import mimetypes
-
     try:
         path = await asyncio.to_thread(_version_path, config, storage, who, garment_id, version,
                                        name)
@@ -272,9 +272,6 @@ async def version_file(garment_id: str, version: int, name: str, request: Reques
 
 
 def _import(upload: mg.Upload) -> dict:
-    from catwalk.exchange.dxf import pieces_to_garment, read_dxf
-    from catwalk.exchange.garment_json import garment_to_dict
-
     pieces, warnings = read_dxf(upload.dxf, units=upload.units)
     g = pieces_to_garment(pieces, "garment", source={"importer": "catwalk merchant editor"})
     return {"garment": garment_to_dict(g), "pieces": [p.summary() for p in pieces],

@@ -13,13 +13,17 @@ from fastapi.responses import JSONResponse, Response
 from sqlalchemy.exc import IntegrityError
 from sse_starlette.sse import EventSourceResponse
 
+from catwalk.cloth.fabrics import resolve_fabric
 from catwalk.config import Config
 from catwalk.errors import InputError
-from catwalk.service import db, jobs, keys
+from catwalk.service import keys
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, check_id, not_found
 from catwalk.service.api.files import file_response
-from catwalk.service.models import FINISHED, BodyRow, ResultRow, TryOnRow, utcnow
+from catwalk.service.jobs import lifecycle as jobs
+from catwalk.service.jobs.app import send
+from catwalk.service.store import db
+from catwalk.service.store.models import FINISHED, BodyRow, ResultRow, TryOnRow, utcnow
 
 router = APIRouter(prefix="/api/tryons", tags=["tryons"])
 log = logging.getLogger("catwalk.api")
@@ -61,8 +65,6 @@ def _submit(config: Config, catalogue, storage, req: schemas.TryOnRequest
             ) -> tuple[TryOnRow, bool, dict]:
     """The try-on row for ``req``: a new queued one, this body's running one with the same
     key, or a done one answered from the cache. (row, needs sending, its JSON)."""
-    from catwalk.garment.check import resolve_fabric
-
     check_id(req.body_id, "body", "body_id")
     try:
         entry = catalogue.get(req.garment_id)
@@ -137,8 +139,6 @@ async def create_tryon(req: schemas.TryOnRequest, request: Request,
                        catalogue=Depends(deps.catalogue), storage=Depends(deps.storage),
                        _json=Depends(deps.json_body)):
     """Ask for a try-on of a body in a catalogue garment."""
-    from catwalk.service.queue import send
-
     row, needs_sending, view = await asyncio.to_thread(_submit, config, catalogue, storage,
                                                        req)
     request.app.state.metrics.cache.labels("hit" if row.cached else "miss").inc()

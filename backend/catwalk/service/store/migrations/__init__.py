@@ -1,0 +1,1 @@
+"""Alembic migrations of the service's database (``catwalk.service.store.db.migrate``)."""
