@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-from catwalk.cloth.solver import INTEGRATORS
+from catwalk.cloth.solver import INTEGRATORS as _SOLVER_INTEGRATORS
 from catwalk.collide import MODES, Skips
 from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
+
+#: the cloth integrators a walk can take: the explicit solver's, and the implicit solver on a
+#: prefactored matrix (:mod:`catwalk.cloth.solvers.implicit`)
+INTEGRATORS = (*_SOLVER_INTEGRATORS, "implicit")
 
 
 def _in_range(name: str, value, lo, hi, span: str | None = None, *, whole: bool = False):
@@ -38,7 +42,10 @@ class Settings:
     blows up, so it is refused (``catwalk bench stress`` shows the evidence).
     ``integrator``: ``explicit`` (the paper's, the default) or ``xpbd`` (XPBD steps of
     ``xpbd_dt`` seconds with ``xpbd_iterations`` sweeps each, the ordered pass as their final
-    clamp: :class:`~catwalk.cloth.solver.Solver`; the walk only — dressing stays explicit).
+    clamp: :class:`~catwalk.cloth.solver.Solver`; the walk only — dressing stays explicit) or
+    ``implicit`` (implicit Euler steps of ``implicit_dt`` seconds, ``implicit_iterations``
+    iterations each, on a matrix factored once per garment:
+    :class:`~catwalk.cloth.solvers.implicit.ImplicitSolver`; the walk only).
     Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
@@ -74,6 +81,8 @@ class Settings:
     integrator: str = "explicit"
     xpbd_dt: float = 1.0 / 300.0
     xpbd_iterations: int = 1
+    implicit_dt: float = 1.0 / 90.0
+    implicit_iterations: int = 10
     collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
@@ -105,6 +114,8 @@ class Settings:
             raise InputError(f"setting integrator must be one of {', '.join(INTEGRATORS)}, got "
                              f"{self.integrator!r}")
         _in_range("xpbd_iterations", self.xpbd_iterations, 1, 100, whole=True)
+        _in_range("implicit_iterations", self.implicit_iterations, 1, 100, whole=True)
+        _in_range("implicit_dt", self.implicit_dt, 1e-4, 1.0 / 30.0, "1e-04–0.0333 s")
         _in_range("xpbd_dt", self.xpbd_dt, 1e-5, 1.0 / 30.0, "1e-05–0.0333 s (at least one step "
                   "a 30-fps frame)")
         for key in ("h", "thickness", "max_move", "sew_omega", "sew_seconds", "weld_gap",
