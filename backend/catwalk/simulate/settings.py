@@ -45,7 +45,8 @@ class Settings:
     clamp: :class:`~catwalk.cloth.solver.Solver`; the walk only — dressing stays explicit) or
     ``implicit`` (implicit Euler steps of ``implicit_dt`` seconds, ``implicit_iterations``
     iterations each, on a matrix factored once per garment:
-    :class:`~catwalk.cloth.solvers.implicit.ImplicitSolver`; the walk only).
+    :class:`~catwalk.cloth.solvers.implicit.ImplicitSolver`; the walk only; a collision
+    response after each step, the walk's plane band at least ``implicit_plane_band``).
     Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
@@ -83,6 +84,7 @@ class Settings:
     xpbd_iterations: int = 1
     implicit_dt: float = 1.0 / 90.0
     implicit_iterations: int = 10
+    implicit_plane_band: float = 0.01
     collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
@@ -139,6 +141,8 @@ class Settings:
         if self.sew_collisions < 1 or self.settle_collisions < 1:
             raise InputError("sew_collisions and settle_collisions must be >= 1")
         _in_range("plane_band", self.plane_band, 0.0, MAX_PLANE_BAND, f"0–{MAX_PLANE_BAND} m")
+        _in_range("implicit_plane_band", self.implicit_plane_band, 0.0, MAX_PLANE_BAND,
+                  f"0–{MAX_PLANE_BAND} m")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
@@ -150,7 +154,14 @@ class Settings:
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
                 "skips": Skips(**dict.fromkeys(self.skips_off, False)) if self.skips
                 else Skips.off(), "threads": self.threads,
-                "plane_band": self.plane_band if walking else 0.0}
+                "plane_band": self.walk_plane_band() if walking else 0.0}
+
+    def walk_plane_band(self) -> float:
+        """The walk's plane band: ``plane_band``, at least ``implicit_plane_band`` with the
+        implicit integrator (its three responses a frame need it: docs/cloth.md)."""
+        if self.integrator == "implicit":
+            return max(self.plane_band, self.implicit_plane_band)
+        return self.plane_band
 
     def with_(self, **changes) -> Settings:
         """A copy with some settings changed (None values are ignored)."""

@@ -2,9 +2,11 @@
 
 The implicit solver's system matrix A = M/h² + L (springs, bending, damping: see
 :mod:`catwalk.cloth.solvers.implicit.system`) does not change while the garment is worn, so it
-is factored once: a fill-reducing order P (SuperLU's minimum degree on A + Aᵀ, through scipy,
-or reverse Cuthill–McKee), then the up-looking sparse Cholesky of P·A·Pᵀ (Davis, "Direct
-Methods for Sparse Linear Systems", 2006, ``cs_chol``) into a CSC lower factor L. A solve is
+is factored once: a fill-reducing order P (METIS's nested dissection through pymetis, or
+SuperLU's minimum degree on A + Aᵀ through scipy), then the up-looking sparse Cholesky of
+P·A·Pᵀ (Davis, "Direct Methods for Sparse Linear Systems", 2006, ``cs_chol``) into a CSC
+lower factor L (:class:`Symbolic` keeps the analysis for a matrix of the same pattern). A
+solve is
 then two triangular sweeps over L's CSC arrays for the three coordinates at once
 (:func:`solve3`): each non-zero of L is read once a sweep and touches three contiguous numbers.
 """
@@ -160,14 +162,30 @@ def solve3(lp, li, lx, perm, b, x, work):
         x[i, 2] = work[k, 2]
 
 
-ORDERS = ("mmd", "rcm", "natural")
+ORDERS = ("metis", "mmd", "rcm", "natural")
 
 
 def fill_reducing_order(a: sp.csc_matrix, order: str = "mmd") -> np.ndarray:
-    """A fill-reducing permutation of the symmetric matrix ``a``: ``mmd`` (SuperLU's multiple
-    minimum degree on A + Aᵀ, the column order scipy's ``splu`` computes), ``rcm`` (reverse
-    Cuthill–McKee) or ``natural``."""
+    """A fill-reducing permutation of the symmetric matrix ``a``: ``metis`` (METIS's nested
+    dissection through pymetis, when it is installed; else ``mmd``), ``mmd`` (SuperLU's
+    multiple minimum degree on A + Aᵀ, the column order scipy's ``splu`` computes), ``rcm``
+    (reverse Cuthill–McKee) or ``natural``. On the paper's dress (3,378 points, stretch and
+    shear springs) the factor has 96,657 non-zeros with ``metis``, 108,438 with ``mmd``,
+    386,712 with ``rcm``."""
     n = a.shape[0]
+    if order == "metis":
+        try:
+            import pymetis
+        except ImportError:
+            order = "mmd"
+        else:
+            g = sp.csr_matrix(a, copy=True)
+            g.setdiag(0)
+            g.eliminate_zeros()
+            adjacency = pymetis.CSRAdjacency(g.indptr.astype(np.int32),
+                                             g.indices.astype(np.int32))
+            perm, _ = pymetis.nested_dissection(adjacency)
+            return np.asarray(perm, np.int64)
     if order == "natural":
         return np.arange(n, dtype=np.int64)
     if order == "rcm":
@@ -187,11 +205,12 @@ def fill_reducing_order(a: sp.csc_matrix, order: str = "mmd") -> np.ndarray:
     raise InputError(f"unknown order {order!r} (choose from {', '.join(ORDERS)})")
 
 
-class Factor:
-    """The Cholesky factor of a symmetric positive definite sparse matrix ``a`` (n × n):
-    :meth:`solve` (n, 3) right-hand sides. ``nnz`` the factor's non-zeros."""
+class Symbolic:
+    """What a factorisation of matrices of one sparsity pattern shares: the fill-reducing
+    order, the elimination tree, the factor's column pointers (:class:`Factor` takes it to
+    skip the analysis when only the values changed)."""
 
-    def __init__(self, a, order: str = "mmd"):
+    def __init__(self, a, order: str = "metis"):
         a = sp.csc_matrix(a, dtype=np.float64)
         n = a.shape[0]
         if a.shape != (n, n):
@@ -199,18 +218,47 @@ class Factor:
         self.n = n
         self.order = order
         self.perm = fill_reducing_order(a, order)
-        c = a[self.perm][:, self.perm].tocsc()
-        c.sort_indices()
-        cp = c.indptr.astype(np.int64)
-        ci = c.indices.astype(np.int64)
-        parent = etree(n, cp, ci)
-        counts = column_counts(n, cp, ci, parent)
+        c = self.permuted(a)
+        self.pattern = (c.indptr.copy(), c.indices.copy())
+        self.parent = etree(n, c.indptr.astype(np.int64), c.indices.astype(np.int64))
+        counts = column_counts(n, c.indptr.astype(np.int64), c.indices.astype(np.int64),
+                               self.parent)
         self.lp = np.zeros(n + 1, np.int64)
         np.cumsum(counts, out=self.lp[1:])
+
+    def permuted(self, a) -> sp.csc_matrix:
+        c = sp.csc_matrix(a, dtype=np.float64)[self.perm][:, self.perm].tocsc()
+        c.sort_indices()
+        return c
+
+    def matches(self, c: sp.csc_matrix) -> bool:
+        return np.array_equal(c.indptr, self.pattern[0]) and \
+            np.array_equal(c.indices, self.pattern[1])
+
+
+class Factor:
+    """The Cholesky factor of a symmetric positive definite sparse matrix ``a`` (n × n):
+    :meth:`solve` (n, 3) right-hand sides. ``nnz`` the factor's non-zeros; ``symbolic`` its
+    analysis (pass one made for a matrix of the same pattern to reuse it)."""
+
+    def __init__(self, a, order: str = "metis", symbolic: Symbolic | None = None):
+        a = sp.csc_matrix(a, dtype=np.float64)
+        if symbolic is not None:
+            c = symbolic.permuted(a)
+            if not symbolic.matches(c):
+                symbolic = None
+        if symbolic is None:
+            symbolic = Symbolic(a, order)
+            c = symbolic.permuted(a)
+        self.symbolic = symbolic
+        n = self.n = symbolic.n
+        self.order = symbolic.order
+        self.perm = symbolic.perm
+        self.lp = symbolic.lp
         self.li = np.empty(self.lp[-1], np.int64)
         self.lx = np.empty(self.lp[-1])
-        bad = factor_numeric(n, cp, ci, c.data.astype(np.float64), parent, self.lp, self.li,
-                             self.lx)
+        bad = factor_numeric(n, c.indptr.astype(np.int64), c.indices.astype(np.int64),
+                             c.data, symbolic.parent, self.lp, self.li, self.lx)
         if bad >= 0:
             raise InputError(f"the system matrix is not positive definite (pivot {bad})")
         self.li = self.li.astype(np.int32)

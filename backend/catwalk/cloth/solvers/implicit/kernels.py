@@ -22,7 +22,6 @@ from __future__ import annotations
 from collections import namedtuple
 
 import numba
-import numpy as np
 
 from catwalk.cloth.kernels import accumulate_forces, contact_velocity
 
@@ -176,12 +175,18 @@ def project_planes(X, idx, planes, t, touched):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touched, norms):
+def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touched, norms,
+            lam, kappa, project):
     """The step's iterations from the guess ``X`` (3, n), in place: ``it.iterations`` times
     the residual (:func:`residual`), the solve D = A⁻¹·R, x ← x + D with Chebyshev's weight
     ω (from iteration ``cheby_start`` on, spectral radius estimate ``rho``, under-relaxation
-    ``gamma``), then the contact planes (:func:`project_planes`). ``norms[j]``: |R|² at
-    iteration j (the last entry after the last update)."""
+    ``gamma``), then the contact planes: with ``project``, each point behind its plane is put
+    back on it and its multiplier ``lam[i]`` (N, the plane's push, added to its residual
+    force along the normal) follows Uzawa's update λ ← max(0, λ − κ·d) (d the distance
+    before the projection, ``kappa`` N/m) — without the multipliers the solve, which does
+    not know the contacts, sees the weight the planes carry as a net force every iteration
+    and the projections stretch the cloth round them further each time. ``norms[j]``: |R|²
+    at iteration j (the last entry after the last update)."""
     iterations, rho, gamma, cheby_start = it
     lp, li, lx, perm = fac
     D, XPREV, W3 = work[5], work[6], work[8]
@@ -190,8 +195,11 @@ def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touche
     for q in range(3):
         for i in range(n):
             XPREV[q, i] = X[q, i]
+    R = work[4]
     for j in range(iterations):
         norms[j] = residual(X, h, model, bend, work)
+        if project:
+            add_pushes(R, plane_idx, planes, lam)
         solve_soa(lp, li, lx, perm, work[4], D, W3)
         if j < cheby_start:
             omega = 1.0
@@ -205,8 +213,8 @@ def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touche
                 xn = omega * (gamma * D[q, i] + x - XPREV[q, i]) + XPREV[q, i]
                 XPREV[q, i] = x
                 X[q, i] = xn
-        if plane_idx.shape[0]:
-            project_planes(X, plane_idx, planes, plane_t, touched)
+        if project and plane_idx.shape[0]:
+            uzawa(X, plane_idx, planes, plane_t, touched, lam, kappa)
     norms[iterations] = residual(X, h, model, bend, work)
 
 
@@ -222,3 +230,34 @@ def friction(V, idx, planes, touched):
         V[0, i], V[1, i], V[2, i] = contact_velocity(
             V[0, i], V[1, i], V[2, i], planes[k, 0], planes[k, 1], planes[k, 2],
             planes[k, 4], planes[k, 5], planes[k, 6], planes[k, 7])
+
+
+@numba.njit(cache=True, error_model="numpy")
+def add_pushes(R, idx, planes, lam):
+    """R[:, i] += λᵢ·nᵢ for the points with a plane (their contact's push)."""
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        g = lam[i]
+        if g != 0.0:
+            R[0, i] += g * planes[k, 0]
+            R[1, i] += g * planes[k, 1]
+            R[2, i] += g * planes[k, 2]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def uzawa(X, idx, planes, t, touched, lam, kappa):
+    """The contacts after an update: λᵢ ← max(0, λᵢ − κ·dᵢ) (dᵢ the signed distance to the
+    plane, negative behind it), and a point behind its plane back onto it (``touched``)."""
+    for k in range(idx.shape[0]):
+        i = idx[k]
+        nx = planes[k, 0]
+        ny = planes[k, 1]
+        nz = planes[k, 2]
+        d = nx * X[0, i] + ny * X[1, i] + nz * X[2, i] - planes[k, 3] - \
+            (nx * planes[k, 4] + ny * planes[k, 5] + nz * planes[k, 6]) * t
+        lam[i] = max(0.0, lam[i] - kappa * d)
+        if d < 0.0:
+            X[0, i] -= d * nx
+            X[1, i] -= d * ny
+            X[2, i] -= d * nz
+            touched[k] = 1

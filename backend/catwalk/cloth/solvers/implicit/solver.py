@@ -34,6 +34,7 @@ import math
 import time
 
 import numpy as np
+import scipy.sparse as sp
 
 from catwalk.cloth import kernels as CK
 from catwalk.cloth.model import ClothModel, State
@@ -44,6 +45,10 @@ from catwalk.cloth.solvers.implicit.cholesky import ORDERS, Factor
 from catwalk.errors import InputError
 
 BENDING = ("quadratic", "springs")
+#: how the contact planes enter a step: ``uzawa`` (projected every iteration, with Uzawa
+#: multipliers carried from step to step), ``after`` (only after the iterations, by the
+#: clamp, as the explicit step applies them)
+CONTACTS = ("uzawa", "after")
 
 
 class ImplicitSolver(Solver):
@@ -55,9 +60,11 @@ class ImplicitSolver(Solver):
     ``method`` and its settings, ``sewing``, ``extra_air``, ``held_fixed``, …)."""
 
     def __init__(self, model: ClothModel, method: str = "ordered", *, dt: float = 1.0 / 90.0,
-                 iterations: int = 10, rho: float = 0.0, gamma: float = 1.0,
+                 iterations: int = 10, rho: float = 0.95, gamma: float = 1.0,
                  cheby_start: int = 1, bending: str = "quadratic",
-                 bend_rigidity: float | None = None, order: str = "mmd", **kw):
+                 bend_rigidity: float | None = None, bend_in_matrix: bool = False,
+                 order: str = "metis",
+                 contacts: str = "uzawa", kappa: float = 1.0, passes: int = 6, **kw):
         if not (isinstance(dt, (int, float)) and math.isfinite(dt) and 0 < dt <= 0.1):
             raise InputError(f"implicit dt must be within (0, 0.1] s, got {dt!r}")
         if isinstance(iterations, bool) or not isinstance(iterations, (int, np.integer)) or \
@@ -78,11 +85,16 @@ class ImplicitSolver(Solver):
         self.rho, self.gamma, self.cheby_start = float(rho), float(gamma), int(cheby_start)
         self.bending = bending
         self.bend_rigidity = bend_rigidity
+        self.bend_in_matrix = bool(bend_in_matrix)
         self.order = order
+        if contacts not in CONTACTS:
+            raise InputError(f"contacts must be one of {', '.join(CONTACTS)}, got {contacts!r}")
+        self.contacts = contacts
+        self.kappa = float(kappa)
         self.factorizations = 0
         self.factor_seconds = 0.0
         self.last_residuals = np.zeros(self.iterations + 1)
-        super().__init__(model, method, **kw)
+        super().__init__(model, method, passes=passes, **kw)
         self.integrator = "implicit"
 
     # --- per-model caches ---
@@ -96,7 +108,10 @@ class ImplicitSolver(Solver):
             lap, coef, q = system.bending(model, b)
             self._bend = K.Bending(lap.indptr.astype(np.int64), lap.indices.astype(np.int64),
                                    lap.data.astype(np.float64), coef)
-            self._bend_q = q
+            # in A whole, or as its rows' absolute sums on the diagonal (a bound of Q that
+            # keeps the factor as sparse as the springs' alone)
+            self._bend_q = q if self.bend_in_matrix else \
+                sp.diags(np.asarray(abs(q).sum(axis=1)).ravel()).tocsc()
             self._springs = np.arange(model.n_limited)
             self._runs_used = self._runs[:self._n_runs_lim]
         else:
@@ -109,6 +124,8 @@ class ImplicitSolver(Solver):
         self._factor_key = None
         self._iwork = K.Work(*(np.zeros((3, n)) for _ in range(8)), np.zeros((n, 3)))
         self._touched = np.zeros(n, np.uint8)
+        self._lam = np.zeros(n)
+        self._lam_keep = np.zeros(n)
 
     def _factor_for(self, model: ClothModel, h: float, fixed: np.ndarray) -> Factor:
         """The factor of A for step ``h`` with the ``fixed`` points, made when the key
@@ -122,7 +139,7 @@ class ImplicitSolver(Solver):
                 a = (a + system.laplacian(model.n_points, self._seam_a, self._seam_b,
                                           np.full(len(self._seam_a), self.seam_stiffness +
                                                   self.seam_damping / h))).tocsc()
-            self._factor = Factor(a, self.order)
+            self._factor = Factor(a, self.order, self._factor and self._factor.symbolic)
             self._factor_key = key
             self.factorizations += 1
             self.factor_seconds += time.perf_counter() - t
@@ -133,13 +150,20 @@ class ImplicitSolver(Solver):
         for _ in range(nsteps):
             self._implicit_step(model, state, w_int, w_lim, h)
 
-    def _implicit_step(self, model, state: State, w_int, w_lim, h: float) -> None:
+    def _implicit_step(self, model, state: State, w_int, w_lim, h: float,
+                       predicted: np.ndarray | None = None) -> None:
+        """One step of ``h`` s (module docstring); ``predicted``: the inertial prediction
+        xₙ + h·vₙ as a detection left it (pushed out of the body; its planes, set at the
+        step's end, in the state), instead of xₙ + h·vₙ."""
         fixed = (w_int == 0.0)
         f = self._factor_for(model, h, fixed)
         X0, Y, V, F, R, D, XPREV, T, W3 = self._iwork
         CK.to_soa(state.positions, X0)
-        CK.to_soa(state.velocities, V)
-        Y[:] = X0 + h * V
+        if predicted is None:
+            CK.to_soa(state.velocities, V)
+            Y[:] = X0 + h * V
+        else:
+            CK.to_soa(predicted, Y)
         X = self._X = getattr(self, "_X", None)
         if X is None or X.shape != X0.shape:
             X = self._X = np.zeros_like(X0)
@@ -148,8 +172,14 @@ class ImplicitSolver(Solver):
         t_end = state.time + h - state.plane_time
         touched = self._touched[:len(idx)]
         touched[:] = 0
-        if len(idx):
+        project = self.contacts == "uzawa" and len(idx) > 0
+        if project:
             K.project_planes(X, idx, rows, t_end, touched)
+            # the multipliers of the points that still have a plane carry over
+            self._lam_keep[:] = 0.0
+            self._lam_keep[idx] = self._lam[idx]
+            self._lam, self._lam_keep = self._lam_keep, self._lam
+        kappa = self.kappa * float(model.mass.sum()) / (max(1, len(idx)) * h * h)
         mdl = K.ImplicitModel(model.mass, fixed.astype(np.uint8), self._runs_used,
                               self._n_runs_lim, model.spring_rest, model.spring_k,
                               model.spring_c, model.fabric.compression, self.gravity,
@@ -157,9 +187,10 @@ class ImplicitSolver(Solver):
                               self.seam_stiffness)
         K.iterate(X, h, tuple(mdl), tuple(self._bend), (f.lp, f.li, f.lx, f.perm),
                   (self.iterations, self.rho, self.gamma, self.cheby_start),
-                  tuple(self._iwork), idx, rows, t_end, touched, self.last_residuals)
+                  tuple(self._iwork), idx, rows, t_end, touched, self.last_residuals,
+                  self._lam, kappa, project)
         V[:] = (X - X0) / h
-        if len(idx):
+        if project:
             K.friction(V, idx, rows, touched)
         if self.sewing and len(self._seam_a):
             CK.damp_seams(V, self._seam_a, self._seam_b, w_int, self.seam_damping, h)
