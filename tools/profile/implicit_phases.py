@@ -40,7 +40,6 @@ def main() -> None:
     sol.step(model, st, None, h)                  # the factor, the kernels loaded
     out["first_step_ms"] = round(1e3 * (time.perf_counter() - t), 1)
     f = sol._factor
-    a = S.system_matrix(model, h, sol._springs, sol._bend_q, model.fabric.air, None)
     factors = {}
     for order in ("metis", "mmd"):
         for name, q in (("bend_on_diagonal", sol._bend_q),
