@@ -55,12 +55,16 @@ def add_walk_settings(parser) -> None:
     parser.add_argument("--max-move", type=float, default=None, metavar="M",
                         help="the walks' body motion between two responses, m (default: "
                         "balanced's)")
-    parser.add_argument("--integrator", choices=["explicit", "xpbd"], default=None,
+    parser.add_argument("--integrator", choices=["explicit", "xpbd", "implicit"], default=None,
                         help="the walks' cloth integrator (default: balanced's, explicit)")
     parser.add_argument("--xpbd-dt", type=float, default=None, metavar="S",
                         help="with --integrator xpbd: its step in seconds (default 1/300)")
     parser.add_argument("--xpbd-iterations", type=int, default=None, metavar="N",
                         help="with --integrator xpbd: its sweeps a step (default 1)")
+    parser.add_argument("--implicit-dt", type=float, default=None, metavar="S",
+                        help="with --integrator implicit: its step in seconds (default 1/90)")
+    parser.add_argument("--implicit-iterations", type=int, default=None, metavar="N",
+                        help="with --integrator implicit: its iterations a step (default 10)")
     parser.add_argument("--skips-off", nargs="+", default=None, metavar="SKIP",
                         help="the walks' collider skips switched off, by name (the "
                         "collider's Skips: a wrong name is refused with the list; default: "
@@ -75,6 +79,8 @@ def walk_settings(args) -> dict:
                              ("max_move", args.max_move),
                              ("integrator", args.integrator), ("xpbd_dt", args.xpbd_dt),
                              ("xpbd_iterations", args.xpbd_iterations),
+                             ("implicit_dt", args.implicit_dt),
+                             ("implicit_iterations", args.implicit_iterations),
                              ("skips_off", args.skips_off and tuple(args.skips_off)))
            if v is not None}
     preset("balanced").with_(**out)

@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from dataclasses import asdict, dataclass, replace
 
-from catwalk.cloth.solvers.explicit.solver import INTEGRATORS
+from catwalk.cloth.solvers.explicit.solver import INTEGRATORS as _SOLVER_INTEGRATORS
 from catwalk.collide import MODES, Skips
 from catwalk.collide.collider import MAX_PLANE_BAND
 from catwalk.errors import InputError
+
+#: the cloth integrators a walk can take: the explicit solver's, and the implicit solver on a
+#: prefactored matrix (:mod:`catwalk.cloth.solvers.implicit`)
+INTEGRATORS = (*_SOLVER_INTEGRATORS, "implicit")
 
 
 def _in_range(name: str, value, lo, hi, span: str | None = None, *, whole: bool = False):
@@ -39,8 +43,12 @@ class Settings:
     ``integrator``: ``explicit`` (the paper's, the default) or ``xpbd`` (XPBD steps of
     ``xpbd_dt`` seconds with ``xpbd_iterations`` sweeps each, the ordered pass as their final
     clamp: :class:`~catwalk.cloth.solvers.explicit.solver.Solver`; the walk only — dressing stays
-    explicit). Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness``
-    (m) the cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
+    explicit) or ``implicit`` (implicit Euler steps of ``implicit_dt`` seconds,
+    ``implicit_iterations`` iterations each, on a matrix factored once per garment:
+    :class:`~catwalk.cloth.solvers.implicit.ImplicitSolver`; the walk only; a collision
+    response after each step, the walk's plane band at least ``implicit_plane_band``).
+    Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
+    cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from
     the body's fastest vertex), ``min_collisions``/``max_collisions`` per 30-fps frame,
     ``plane_band`` (m): in the walk, points not held but within this of the body's surface
@@ -74,6 +82,9 @@ class Settings:
     integrator: str = "explicit"
     xpbd_dt: float = 1.0 / 300.0
     xpbd_iterations: int = 1
+    implicit_dt: float = 1.0 / 90.0
+    implicit_iterations: int = 10
+    implicit_plane_band: float = 0.01
     collider: str = "hybrid"
     map_size: int = 256
     skips: bool = True
@@ -105,6 +116,8 @@ class Settings:
             raise InputError(f"setting integrator must be one of {', '.join(INTEGRATORS)}, got "
                              f"{self.integrator!r}")
         _in_range("xpbd_iterations", self.xpbd_iterations, 1, 100, whole=True)
+        _in_range("implicit_iterations", self.implicit_iterations, 1, 100, whole=True)
+        _in_range("implicit_dt", self.implicit_dt, 1e-4, 1.0 / 30.0, "1e-04–0.0333 s")
         _in_range("xpbd_dt", self.xpbd_dt, 1e-5, 1.0 / 30.0, "1e-05–0.0333 s (at least one step "
                   "a 30-fps frame)")
         for key in ("h", "thickness", "max_move", "sew_omega", "sew_seconds", "weld_gap",
@@ -128,6 +141,8 @@ class Settings:
         if self.sew_collisions < 1 or self.settle_collisions < 1:
             raise InputError("sew_collisions and settle_collisions must be >= 1")
         _in_range("plane_band", self.plane_band, 0.0, MAX_PLANE_BAND, f"0–{MAX_PLANE_BAND} m")
+        _in_range("implicit_plane_band", self.implicit_plane_band, 0.0, MAX_PLANE_BAND,
+                  f"0–{MAX_PLANE_BAND} m")
         if self.settle_seconds < 0 or self.blend_seconds < 0:
             raise InputError("settle_seconds and blend_seconds must be >= 0")
         return self
@@ -139,7 +154,14 @@ class Settings:
         return {"map_size": (self.map_size, self.map_size), "thickness": self.thickness,
                 "skips": Skips(**dict.fromkeys(self.skips_off, False)) if self.skips
                 else Skips.off(), "threads": self.threads,
-                "plane_band": self.plane_band if walking else 0.0}
+                "plane_band": self.walk_plane_band() if walking else 0.0}
+
+    def walk_plane_band(self) -> float:
+        """The walk's plane band: ``plane_band``, at least ``implicit_plane_band`` with the
+        implicit integrator (its three responses a frame need it: docs/cloth.md)."""
+        if self.integrator == "implicit":
+            return max(self.plane_band, self.implicit_plane_band)
+        return self.plane_band
 
     def with_(self, **changes) -> Settings:
         """A copy with some settings changed (None values are ignored)."""

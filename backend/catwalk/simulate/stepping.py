@@ -118,7 +118,11 @@ def restore(state: State, saved: State) -> None:
 
 
 def collisions_for(move: float, settings: Settings) -> int:
-    """Collider resolves per 1/30 s for a cloth/body that moved ``move`` metres in it."""
+    """Collider resolves per 1/30 s for a cloth/body that moved ``move`` metres in it (the
+    implicit integrator: one after each of its steps, whatever the motion — its step, and so
+    its factored matrix, stays the same)."""
+    if settings.integrator == "implicit":
+        return max(1, round(1.0 / (30.0 * settings.implicit_dt)))
     n = math.ceil(move / settings.max_move) if move > 0 else 1
     return int(min(max(n, settings.min_collisions), settings.max_collisions))
 

@@ -211,11 +211,16 @@ def cloth_solver(dressed: Dressed, settings: Settings) -> Solver:
     model = dressed.model
     m_med = float(np.median(dressed.cloth.model.mass))
     w = settings.sew_omega
-    return Solver(model, settings.method, held_fixed=False, sewing=len(model.seam_a) > 0,
-                  safety=settings.step_safety, order_tolerance=ORDER_TOLERANCE,
-                  seam_stiffness=w * w * m_med, seam_damping=2.0 * w * m_med,
-                  integrator=settings.integrator, xpbd_dt=settings.xpbd_dt,
-                  xpbd_iterations=settings.xpbd_iterations)
+    common = dict(held_fixed=False, sewing=len(model.seam_a) > 0, safety=settings.step_safety,
+                  order_tolerance=ORDER_TOLERANCE, seam_stiffness=w * w * m_med,
+                  seam_damping=2.0 * w * m_med)
+    if settings.integrator == "implicit":
+        from catwalk.cloth.solvers.implicit import ImplicitSolver
+
+        return ImplicitSolver(model, settings.method, dt=settings.implicit_dt,
+                              iterations=settings.implicit_iterations, **common)
+    return Solver(model, settings.method, integrator=settings.integrator,
+                  xpbd_dt=settings.xpbd_dt, xpbd_iterations=settings.xpbd_iterations, **common)
 
 
 def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_dt, x0,

@@ -4,7 +4,9 @@
 
 - :mod:`~catwalk.cloth.solvers.explicit`: the paper's explicit mass–spring scheme (eq. 2–4)
   with its strain limits; its ``integrator="xpbd"`` runs
-  :mod:`~catwalk.cloth.solvers.xpbd`'s sweeps instead of the explicit step.
+  :mod:`~catwalk.cloth.solvers.xpbd`'s sweeps instead of the explicit step;
+- :mod:`~catwalk.cloth.solvers.implicit`: implicit Euler on a matrix factored once per garment
+  (issue 43; docs/cloth.md).
 
 What every solver shares lives one floor up in :mod:`catwalk.cloth`: the spring law
 (:mod:`~catwalk.cloth.springs`), the strain limits (:mod:`~catwalk.cloth.strain_limit`) and
