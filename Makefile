@@ -44,7 +44,8 @@ demo: install
 	$(CATWALK) demo --garment $(DEMO_GARMENT) --size M --seconds 4 --out-dir demo
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check backend tests
+	$(VENV)/bin/ruff check backend tests tools
+	$(VENV)/bin/lint-imports --no-cache
 
 services:
 	tools/services/ensure.sh

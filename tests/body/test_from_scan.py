@@ -86,7 +86,7 @@ def _walk(body):
 
 def test_the_scan_body_walks_cleanly(registered):
     from catwalk.body.rig import measured_base_body
-    from catwalk.motion.gait import foot_sliding, walk_folds
+    from catwalk.motion.checks import foot_sliding, walk_folds
 
     truth, _, body, _, _ = registered
     m, verts = _walk(body)

@@ -5,7 +5,8 @@ from catwalk.body.skinning import body_frames, joint_world_matrices
 from catwalk.body.types import Body
 from catwalk.errors import CatwalkError
 from catwalk.geometry.quat import quat_to_mat
-from catwalk.motion.gait import foot_sliding, foot_vertices, stride_length, walk_motion
+from catwalk.motion.checks import foot_sliding, foot_vertices
+from catwalk.motion.gait import stride_length, walk_motion
 
 
 @pytest.fixture(scope="module", params=["catwalk", "normal"])
@@ -98,7 +99,7 @@ def test_the_armpits_do_not_fold(walk):
     from dataclasses import replace
 
     from catwalk.body.rig import skin_weights
-    from catwalk.motion.gait import armpit_faces, inverted_triangles
+    from catwalk.motion.checks import armpit_faces, inverted_triangles
 
     body, m, verts, _ = walk
     pits = body.faces[armpit_faces(body)]

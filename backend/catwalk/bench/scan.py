@@ -24,7 +24,8 @@ from catwalk.body.types import GIRTHS
 from catwalk.errors import InputError
 from catwalk.exchange.scan import MAX_FACES, load_scan
 from catwalk.geometry.surface import BodySurface
-from catwalk.motion.gait import walk_folds, walk_motion
+from catwalk.motion.checks import walk_folds
+from catwalk.motion.gait import walk_motion
 from catwalk.render.preview import render_meshes, save_png
 
 FACES = (50_000, 300_000, 2_000_000)

@@ -20,18 +20,14 @@ from catwalk.body.skinning import (
 )
 from catwalk.errors import InputError
 from catwalk.exchange.gltf import read_body, write_glb
-from catwalk.motion.gait import (
-    ANKLE,
-    HIP,
-    KNEE,
-    STYLES,
+from catwalk.motion.checks import (
     armpit_faces,
     foot_sliding,
     foot_vertices,
     inverted_triangles,
     sagittal_angles,
-    walk_motion,
 )
+from catwalk.motion.gait import ANKLE, HIP, KNEE, STYLES, walk_motion
 
 
 def _walk(args) -> int:

@@ -31,11 +31,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from catwalk.body.rig import armpit_seam
-from catwalk.body.skinning import joint_world_matrices, skinning_matrices
 from catwalk.body.types import Body, Motion
 from catwalk.errors import InputError
-from catwalk.geometry.mesh import face_normals, folds, smooth_pairs
 from catwalk.geometry.quat import axis_angle, make_continuous, mat_to_quat, rot_x, rot_y, rot_z
 from catwalk.motion.ik import bone_delta, two_bone_ik
 
@@ -165,6 +162,11 @@ class _Leg:
     l1: float
     l2: float
     rest_bend: float = 0.0   # angle between thigh and shank at rest (joint centres), rad
+    # set once the walk's timing is known (_Gait): the hip relative to the pelvis at rest, the
+    # forefoot's (pitches, lift) table and the footprints' z offset
+    pelvis_to_hip: np.ndarray | None = None
+    lift: tuple | None = None
+    fp_z0: float = 0.0
 
 
 def _foot_heel(body: Body, leg_ankle: int, ankle0: np.ndarray,
@@ -278,24 +280,12 @@ def _arm_clearance_abduction(body: Body, sk, side: str, shoulder, elbow_len, for
     return float(np.radians(40.0))
 
 
-def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "catwalk",
-                fps: float = 30, closing_frame: bool = False,
-                arm_swing_deg: float | None = None) -> Motion:
-    """A looping walk for a rigged body (see the module docstring).
-
-    ``arm_swing_deg``: the arms' swing amplitude about the shoulder, forward and back (default
-    the style's: 11° catwalk, 16° normal); up to 90° (arms raised to the horizontal at the
-    front of the swing — and, beyond the shoulder's ≈ 60° of extension, at its back: a stress
-    case, not a pose).
-
-    The clip holds a whole number of gait cycles: ``seconds`` is rounded to whole cycles (and
-    frames). Frame ``frames`` (one past the last) would equal frame 0 moved forward by
-    ``meta["loop_offset"]``; ``closing_frame=True`` appends it (for players that need the
-    closing key; the Motion is then not ``loop``-wrapped for velocities).
-    """
+def _checked_style(body: Body, seconds: float, speed: float, style: str, fps: float,
+                   arm_swing_deg: float | None) -> GaitStyle:
+    """The walk's style, once every input is checked (:class:`InputError` naming it)."""
     if body.skeleton is None or body.skin_joints is None or body.skin_weights is None:
         raise InputError("this body has no rig (skeleton and skin weights); make it with "
-                           "`catwalk body make` or another rigged source")
+                         "`catwalk body make` or another rigged source")
     if not np.isfinite(seconds) or seconds <= 0:
         raise InputError(f"seconds must be > 0, got {seconds}", "seconds")
     if not np.isfinite(speed) or not 0.3 <= speed <= 3.0:
@@ -308,125 +298,157 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
                                           0.0 <= arm_swing_deg <= 90.0):
         raise InputError(f"arm swing must be within 0–90°, got {arm_swing_deg}",
                          "arm_swing_deg")
-    sk = body.skeleton
-    missing = [b for b in REQUIRED_BONES if b not in sk.names]
+    missing = [b for b in REQUIRED_BONES if b not in body.skeleton.names]
     if missing:
         raise InputError(f"the body's rig lacks the bones {', '.join(missing)} needed to walk")
     st = STYLES[style]
     if arm_swing_deg is not None:
         st = replace(st, arm_swing_deg=float(arm_swing_deg))
-    J = len(sk.names)
-    rw = sk.rest_world
-    R0 = rw[:, :3, :3]
-    P0 = rw[:, :3, 3]
-    idx = {n: i for i, n in enumerate(sk.names)}
+    return st
 
-    # ---- geometry of the body ------------------------------------------------------------
-    legs = []
-    for side, phase0 in (("l", 0.0), ("r", 0.5)):
-        hip, knee = idx[f"thigh_{side}"], idx[f"calf_{side}"]
-        ankle, ball = idx[f"foot_{side}"], idx[f"ball_{side}"]
-        toe0 = _toe_tip(body, ball, P0[ball])
-        legs.append(_Leg(
-            side=1.0 if side == "l" else -1.0, phase0=phase0, hip=hip, knee=knee, ankle=ankle,
-            ball=ball, hip0=P0[hip], knee0=P0[knee], ankle0=P0[ankle], ball0=P0[ball],
-            toe0=toe0, heel0=P0[ankle],
-            l1=float(np.linalg.norm(P0[knee] - P0[hip])),
-            l2=float(np.linalg.norm(P0[ankle] - P0[knee])),
-            rest_bend=_angle(P0[knee] - P0[hip], P0[ankle] - P0[knee])))
-    ground = float(np.asarray(body.vertices)[:, 1].min())
-    pelvis_j = idx["pelvis"]
-    hip_height = float(np.mean([lg.hip0[1] for lg in legs]) - ground)
-    leg_length = float(np.mean([lg.l1 + lg.l2 for lg in legs]))
 
-    # ---- timing: a whole number of cycles in the clip -------------------------------------
-    # The clip holds whole gait cycles (so it loops); its length is the requested one rounded
-    # to whole cycles and frames, which keeps the cadence within a frame of the natural one.
-    stride0 = stride_length(hip_height, speed) * st.stride_scale
-    period0 = stride0 / speed
-    cycles = max(1, int(round(seconds / period0)))
-    n_frames = max(2, int(round(cycles * period0 * fps)))
-    clip = n_frames / fps
-    period = clip / cycles
-    stride = speed * period
-    t_frames = np.arange(n_frames + (1 if closing_frame else 0)) / fps
+def _reach_height(lg: _Leg, ank, hp, knee_deg):
+    """Pelvis height at which the leg spans hip → ankle with the knee flexed knee_deg beyond
+    its rest pose (the rest knee's joint centres are already bent a few degrees)."""
+    bend = np.radians(knee_deg) + lg.rest_bend
+    d = np.sqrt(lg.l1 ** 2 + lg.l2 ** 2 + 2 * lg.l1 * lg.l2 * np.cos(bend))
+    horiz2 = (hp[:, 0] - ank[:, 0]) ** 2 + (hp[:, 2] - ank[:, 2]) ** 2
+    return ank[:, 1] + np.sqrt(np.maximum(d ** 2 - horiz2, 0.0)) - hp[:, 1]
 
-    # ---- hip amplitude scaled so the curves' step matches the stride ------------------------
-    hip_mean = float(np.mean(HIP(np.linspace(0, 1, 200, endpoint=False))))
 
-    def sagittal(phi, k):
-        a_th = np.radians(hip_mean + k * (HIP(phi) - hip_mean) - PELVIC_TILT_MEAN_DEG)
+class _Gait:
+    """One body's walk in time: its legs' geometry, the clip's timing (whole cycles), the hip
+    curve's scale that makes the legs' step the stride, the pelvis over the cycle (its height
+    from the planted stance legs) and the footprints — what every frame's pose is made from.
+    Each leg's per-walk facts (its heel pivot, forefoot lift table, pelvis-to-hip offset and
+    footprint offset) are kept on its :class:`_Leg`."""
+
+    def __init__(self, body: Body, st: GaitStyle, seconds: float, speed: float, fps: float,
+                 closing_frame: bool):
+        sk = body.skeleton
+        self.body, self.st, self.speed = body, st, speed
+        rw = sk.rest_world
+        self.R0 = rw[:, :3, :3]
+        self.P0 = rw[:, :3, 3]
+        self.idx = {n: i for i, n in enumerate(sk.names)}
+        self.legs = self._legs()
+        self.ground = float(np.asarray(body.vertices)[:, 1].min())
+        self.pelvis_j = self.idx["pelvis"]
+        self.hip_height = float(np.mean([lg.hip0[1] for lg in self.legs]) - self.ground)
+        self.leg_length = float(np.mean([lg.l1 + lg.l2 for lg in self.legs]))
+        # timing: the clip holds whole gait cycles (so it loops); its length is the requested
+        # one rounded to whole cycles and frames, which keeps the cadence within a frame of the
+        # natural one
+        stride0 = stride_length(self.hip_height, speed) * st.stride_scale
+        period0 = stride0 / speed
+        self.cycles = max(1, int(round(seconds / period0)))
+        n_frames = max(2, int(round(self.cycles * period0 * fps)))
+        self.clip = n_frames / fps
+        self.period = self.clip / self.cycles
+        self.stride = speed * self.period
+        self.t_frames = np.arange(n_frames + (1 if closing_frame else 0)) / fps
+        # the hip amplitude scaled so the curves' step matches the stride
+        self.hip_mean = float(np.mean(HIP(np.linspace(0, 1, 200, endpoint=False))))
+        self.hip_scale = self._hip_scale()
+        self.toe_out = np.radians(st.toe_out_deg)
+        for lg in self.legs:
+            lg.pelvis_to_hip = lg.hip0 - self.P0[self.pelvis_j]
+        # the pelvis's height is filled in by _pelvis_height, once the footprints are known
+        self.height_grid = np.linspace(0.0, 1.0, 401)
+        self.height_y = None
+        # stance foot: pitch at heel strike and toe-off, and the rockers
+        _, _, p_fk0 = self.sagittal(np.array([0.0]), self.hip_scale)
+        _, _, p_fkto = self.sagittal(np.array([STANCE_END]), self.hip_scale)
+        self.p_hs = max(float(p_fk0[0]), 0.0)
+        self.p_to = min(float(p_fkto[0]), 0.0)
+        for lg in self.legs:
+            lg.heel0 = _foot_heel(body, lg.ankle, lg.ankle0, self.p_hs)
+            lg.lift = _forefoot_lift(body, lg, self.p_to)
+        self._footprint_offsets()
+        self._pelvis_height()
+
+    def _legs(self) -> list[_Leg]:
+        P0, idx = self.P0, self.idx
+        legs = []
+        for side, phase0 in (("l", 0.0), ("r", 0.5)):
+            hip, knee = idx[f"thigh_{side}"], idx[f"calf_{side}"]
+            ankle, ball = idx[f"foot_{side}"], idx[f"ball_{side}"]
+            toe0 = _toe_tip(self.body, ball, P0[ball])
+            legs.append(_Leg(
+                side=1.0 if side == "l" else -1.0, phase0=phase0, hip=hip, knee=knee,
+                ankle=ankle, ball=ball, hip0=P0[hip], knee0=P0[knee], ankle0=P0[ankle],
+                ball0=P0[ball], toe0=toe0, heel0=P0[ankle],
+                l1=float(np.linalg.norm(P0[knee] - P0[hip])),
+                l2=float(np.linalg.norm(P0[ankle] - P0[knee])),
+                rest_bend=_angle(P0[knee] - P0[hip], P0[ankle] - P0[knee])))
+        return legs
+
+    # ---- the sagittal curves ------------------------------------------------------------
+    def sagittal(self, phi, k):
+        """The curves' foot (z, y) below the hip and its pitch at phases ``phi``, the hip
+        curve scaled by ``k`` about its mean."""
+        a_th = np.radians(self.hip_mean + k * (HIP(phi) - self.hip_mean) - PELVIC_TILT_MEAN_DEG)
         a_sh = a_th - np.radians(KNEE(phi))
-        l1, l2 = legs[0].l1, legs[0].l2
+        l1, l2 = self.legs[0].l1, self.legs[0].l2
         fz = l1 * np.sin(a_th) + l2 * np.sin(a_sh)
         fy = -(l1 * np.cos(a_th) + l2 * np.cos(a_sh))
         pitch = a_sh + np.radians(ANKLE(phi))
         return fz, fy, pitch
 
-    def fk_step(k):
-        fz0, _, _ = sagittal(np.array([0.0]), k)
-        fz5, _, _ = sagittal(np.array([0.5]), k)
+    def _fk_step(self, k) -> float:
+        fz0, _, _ = self.sagittal(np.array([0.0]), k)
+        fz5, _, _ = self.sagittal(np.array([0.5]), k)
         return float(fz0[0] - fz5[0])
 
-    lo_k, hi_k = 0.3, 2.5
-    for _ in range(50):
-        mid = 0.5 * (lo_k + hi_k)
-        if fk_step(mid) < 0.5 * stride:
-            lo_k = mid
-        else:
-            hi_k = mid
-    hip_scale = 0.5 * (lo_k + hi_k)
+    def _hip_scale(self) -> float:
+        lo_k, hi_k = 0.3, 2.5
+        for _ in range(50):
+            mid = 0.5 * (lo_k + hi_k)
+            if self._fk_step(mid) < 0.5 * self.stride:
+                lo_k = mid
+            else:
+                hi_k = mid
+        return 0.5 * (lo_k + hi_k)
 
-    # ---- styles' frontal geometry ----------------------------------------------------------
-    def foot_x(lg):
+    # ---- the pelvis ---------------------------------------------------------------------
+    def foot_x(self, lg: _Leg) -> float:
+        """The footprint ankle's x for the style (frontal geometry)."""
+        st = self.st
         if st.foot_x is None:
             return lg.side * abs(lg.hip0[0])
         return lg.side * st.foot_x - lg.side * st.crossing
 
-    toe_out = np.radians(st.toe_out_deg)
-    pelvis_rest_to_hip = {id(lg): lg.hip0 - P0[pelvis_j] for lg in legs}
-
-    # ---- pelvis (its height is filled in below, once the footprints are known) -------------
-    height_grid = np.linspace(0.0, 1.0, 401)
-    height_table = {"y": None}
-
-    def pelvis_state(t):
-        ph = (t / period) % 1.0
+    def pelvis_state(self, t):
+        """The pelvis at times ``t``: position, rotation, yaw, roll, tilt, phase."""
+        st = self.st
+        ph = (t / self.period) % 1.0
         yaw = np.radians(st.pelvis_rotation_deg) * np.cos(2 * np.pi * ph)   # left hip forward
         roll = np.radians(st.obliquity_scale * OBLIQUITY(ph))               # left hip up
         tilt = np.radians(st.tilt_amplitude_deg) * np.cos(4 * np.pi * (ph - 0.45))
         delta = rot_y(-yaw) @ rot_z(roll) @ rot_x(tilt)
         pos = np.zeros(t.shape + (3,))
         pos[..., 0] = st.sway_m * np.sin(2 * np.pi * ph)
-        if height_table["y"] is not None:
-            pos[..., 1] = np.interp(ph, height_grid, height_table["y"])
-        pos[..., 2] = P0[pelvis_j, 2] + speed * t
+        if self.height_y is not None:
+            pos[..., 1] = np.interp(ph, self.height_grid, self.height_y)
+        pos[..., 2] = self.P0[self.pelvis_j, 2] + self.speed * t
         return pos, delta, yaw, roll, tilt, ph
 
-    def hip_pos(lg, pos, delta):
-        return pos + delta @ pelvis_rest_to_hip[id(lg)]
+    @staticmethod
+    def hip_pos(lg: _Leg, pos, delta):
+        return pos + delta @ lg.pelvis_to_hip
 
-    # ---- stance foot: pitch and the rockers -------------------------------------------------
-    _, _, p_fk0 = sagittal(np.array([0.0]), hip_scale)
-    _, _, p_fkto = sagittal(np.array([STANCE_END]), hip_scale)
-    p_hs = max(float(p_fk0[0]), 0.0)
-    p_to = min(float(p_fkto[0]), 0.0)
-
-    lift_tables = {}
-    for lg in legs:
-        lg.heel0 = _foot_heel(body, lg.ankle, lg.ankle0, p_hs)
-        lift_tables[id(lg)] = _forefoot_lift(body, lg, p_to)
-
-    def stance_pitch(phi):
+    # ---- the stance foot ----------------------------------------------------------------
+    def stance_pitch(self, phi):
         p = np.zeros_like(phi)
         a = phi < FOOT_FLAT
-        p[a] = p_hs * (1.0 - _smooth(phi[a] / FOOT_FLAT))
+        p[a] = self.p_hs * (1.0 - _smooth(phi[a] / FOOT_FLAT))
         b = phi > HEEL_OFF
         s = (phi[b] - HEEL_OFF) / (STANCE_END - HEEL_OFF)
-        p[b] = p_to * s * s
+        p[b] = self.p_to * s * s
         return p
 
-    def foot_point(lg, q_rest, pitch, yaw_f, footprint):
+    @staticmethod
+    def foot_point(lg: _Leg, q_rest, pitch, yaw_f, footprint):
         """World position of a rest-foot point for a foot rolled by ``pitch`` (toes up +) on
         its pivot (heel for p > 0, ball joint for p < 0) and placed on ``footprint`` (the
         flat-foot ankle position, (…, 3))."""
@@ -435,179 +457,192 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
         local = (pivot - lg.ankle0) + rel[..., 0]
         return footprint + (rot_y(yaw_f) @ local[..., None])[..., 0]
 
-    def leg_yaw(lg):
-        return lg.side * toe_out
+    def leg_yaw(self, lg: _Leg) -> float:
+        return lg.side * self.toe_out
 
-    # footprint z: the mean stance offset between the planted ankle and the curves' ankle
-    dense = np.linspace(0.0, period, 400, endpoint=False)
-    pos_d, delta_d, *_ = pelvis_state(dense)
-    fp_z0 = {}
-    for lg in legs:
-        ph = (dense / period - lg.phase0) % 1.0
-        stance = ph < STANCE_END
-        hz = hip_pos(lg, pos_d, delta_d)[:, 2]
-        fz, _, _ = sagittal(ph, hip_scale)
-        fp0 = np.zeros((stance.sum(), 3))
-        ank = foot_point(lg, lg.ankle0, stance_pitch(ph[stance]), leg_yaw(lg), fp0)
-        kstep = np.floor(dense[stance] / period - lg.phase0)
-        fp_z0[id(lg)] = float(np.mean(hz[stance] + fz[stance] - ank[:, 2] - kstep * stride))
+    def _footprint_offsets(self) -> None:
+        """Each leg's footprint z: the mean stance offset between the planted ankle and the
+        curves' ankle."""
+        period = self.period
+        dense = np.linspace(0.0, period, 400, endpoint=False)
+        pos_d, delta_d, *_ = self.pelvis_state(dense)
+        for lg in self.legs:
+            ph = (dense / period - lg.phase0) % 1.0
+            stance = ph < STANCE_END
+            hz = self.hip_pos(lg, pos_d, delta_d)[:, 2]
+            fz, _, _ = self.sagittal(ph, self.hip_scale)
+            fp0 = np.zeros((stance.sum(), 3))
+            ank = self.foot_point(lg, lg.ankle0, self.stance_pitch(ph[stance]),
+                                  self.leg_yaw(lg), fp0)
+            kstep = np.floor(dense[stance] / period - lg.phase0)
+            lg.fp_z0 = float(np.mean(hz[stance] + fz[stance] - ank[:, 2] - kstep * self.stride))
 
-    def footprint(lg, k):
+    def footprint(self, lg: _Leg, k):
         k = np.asarray(k, dtype=np.float64)
         out = np.zeros(k.shape + (3,))
-        out[..., 0] = foot_x(lg)
+        out[..., 0] = self.foot_x(lg)
         out[..., 1] = lg.ankle0[1]
-        out[..., 2] = fp_z0[id(lg)] + k * stride
+        out[..., 2] = lg.fp_z0 + k * self.stride
         return out
 
-    # pelvis height over the cycle: the height at which the stance legs, planted on their
-    # footprints, bend their knees as the knee curve says (weighted across double support),
-    # but never higher than any stance leg reaches with its knee bent at least knee_min. The
-    # vertical bob of the centre of mass comes out of this geometry (inverted pendulum).
-    grid_t = height_grid[:-1] * period
-    pos_g, delta_g, *_ = pelvis_state(grid_t)          # height 0 for now
-    num = np.zeros(len(grid_t))
-    den = np.zeros(len(grid_t))
-    cap = np.full(len(grid_t), np.inf)
-    ds = STANCE_END - 0.5                               # double-support fraction of the cycle
+    def _pelvis_height(self) -> None:
+        """The pelvis height over the cycle: the height at which the stance legs, planted on
+        their footprints, bend their knees as the knee curve says (weighted across double
+        support), but never higher than any stance leg reaches with its knee bent at least
+        knee_min. The vertical bob of the centre of mass comes out of this geometry (inverted
+        pendulum)."""
+        st, period = self.st, self.period
+        grid_t = self.height_grid[:-1] * period
+        pos_g, delta_g, *_ = self.pelvis_state(grid_t)          # height 0 for now
+        num = np.zeros(len(grid_t))
+        den = np.zeros(len(grid_t))
+        cap = np.full(len(grid_t), np.inf)
+        ds = STANCE_END - 0.5                               # double-support fraction
+        for lg in self.legs:
+            ph = (grid_t / period - lg.phase0) % 1.0
+            stance = ph < STANCE_END
+            kstep = np.floor(grid_t[stance] / period - lg.phase0)
+            pst = self.stance_pitch(ph[stance])
+            ank = self.foot_point(lg, lg.ankle0, pst, self.leg_yaw(lg), self.footprint(lg, kstep))
+            ank[:, 1] += np.interp(pst, *lg.lift)
+            hp = self.hip_pos(lg, pos_g[stance], delta_g[stance])
+            knee_c = np.maximum(st.knee_min_deg, st.stance_knee_scale * KNEE(ph[stance]))
+            want = _reach_height(lg, ank, hp, knee_c)
+            top = _reach_height(lg, ank, hp, st.knee_min_deg)
+            w = np.where(ph[stance] < ds, _smooth(ph[stance] / ds),
+                         np.where(ph[stance] > 0.5, 1.0 - _smooth((ph[stance] - 0.5) / ds), 1.0))
+            num[stance] += w * want
+            den[stance] += w
+            cap[stance] = np.minimum(cap[stance], top)
+        y_cycle = np.minimum(num / np.maximum(den, 1e-9), cap)
+        # soften the corners (circular moving average over ±2 % of the cycle), then re-cap
+        kern = np.ones(9) / 9.0
+        y_cycle = np.minimum(np.convolve(np.concatenate([y_cycle[-4:], y_cycle, y_cycle[:4]]),
+                                         kern, mode="valid"), cap)
+        self.height_y = np.append(y_cycle, y_cycle[0])
+        self.y0 = float(np.mean(y_cycle))
+        self.bob = float(np.ptp(y_cycle))
 
-    def reach_height(lg, ank, hp, knee_deg):
-        """Pelvis height at which the leg spans hip → ankle with the knee flexed knee_deg
-        beyond its rest pose (the rest knee's joint centres are already bent a few degrees)."""
-        bend = np.radians(knee_deg) + lg.rest_bend
-        d = np.sqrt(lg.l1 ** 2 + lg.l2 ** 2 + 2 * lg.l1 * lg.l2 * np.cos(bend))
-        horiz2 = (hp[:, 0] - ank[:, 0]) ** 2 + (hp[:, 2] - ank[:, 2]) ** 2
-        return ank[:, 1] + np.sqrt(np.maximum(d ** 2 - horiz2, 0.0)) - hp[:, 1]
-
-    for lg in legs:
-        ph = (grid_t / period - lg.phase0) % 1.0
-        stance = ph < STANCE_END
-        kstep = np.floor(grid_t[stance] / period - lg.phase0)
-        pst = stance_pitch(ph[stance])
-        ank = foot_point(lg, lg.ankle0, pst, leg_yaw(lg), footprint(lg, kstep))
-        ank[:, 1] += np.interp(pst, *lift_tables[id(lg)])
-        hp = hip_pos(lg, pos_g[stance], delta_g[stance])
-        knee_c = np.maximum(st.knee_min_deg, st.stance_knee_scale * KNEE(ph[stance]))
-        want = reach_height(lg, ank, hp, knee_c)
-        top = reach_height(lg, ank, hp, st.knee_min_deg)
-        w = np.where(ph[stance] < ds, _smooth(ph[stance] / ds),
-                     np.where(ph[stance] > 0.5, 1.0 - _smooth((ph[stance] - 0.5) / ds), 1.0))
-        num[stance] += w * want
-        den[stance] += w
-        cap[stance] = np.minimum(cap[stance], top)
-    y_cycle = np.minimum(num / np.maximum(den, 1e-9), cap)
-    # soften the corners (circular moving average over ±2 % of the cycle), then re-cap
-    kern = np.ones(9) / 9.0
-    y_cycle = np.minimum(np.convolve(np.concatenate([y_cycle[-4:], y_cycle, y_cycle[:4]]), kern,
-                                     mode="valid"), cap)
-    height_table["y"] = np.append(y_cycle, y_cycle[0])
-    y0 = float(np.mean(y_cycle))
-    bob = float(np.ptp(y_cycle))
-
-    def fk_at(lg, tt, phi):
+    def fk_at(self, lg: _Leg, tt, phi):
         """The curves' ankle position at times ``tt`` for a fixed phase ``phi``."""
-        pp, dd, *_ = pelvis_state(tt)
-        fz_, fy_, _ = sagittal(np.full(tt.shape, phi), hip_scale)
-        return hip_pos(lg, pp, dd) + np.stack([np.zeros_like(tt), fy_, fz_], axis=1)
+        pp, dd, *_ = self.pelvis_state(tt)
+        fz_, fy_, _ = self.sagittal(np.full(tt.shape, phi), self.hip_scale)
+        return self.hip_pos(lg, pp, dd) + np.stack([np.zeros_like(tt), fy_, fz_], axis=1)
 
-    # ---- per-frame state --------------------------------------------------------------------
-    pos, delta_p, yaw_p, roll_p, tilt_p, _ = pelvis_state(t_frames)
+
+class _Pose:
+    """Every frame's joint rotations relative to the rest pose (``delta``, (F, J, 3, 3)); the
+    joints given one explicitly (``explicit``) — the others follow their parent."""
+
+    def __init__(self, frames: int, joints: int, idx: dict):
+        self.idx = idx
+        self.delta = np.repeat(np.eye(3)[None, None], frames, axis=0).repeat(joints, axis=1)
+        self.explicit = np.zeros(joints, dtype=bool)
+
+    def set(self, name_or_j, d) -> None:
+        j = name_or_j if isinstance(name_or_j, int) else self.idx[name_or_j]
+        self.delta[:, j] = d
+        self.explicit[j] = True
+
+
+def _swing_ankle(g: _Gait, lg: _Leg, sw, ph, kstep, hip_w, fy, fz, pfk, yaw_f):
+    """The swing foot's ankle target and pitch at the frames ``sw``: along the curves' ankle
+    path from the moving hip, blended from the toe-off footprint to the next heel-strike one,
+    with lateral clearance round the stance leg and the toes kept 1.5 cm·sin off the floor;
+    also the toes' bend relative to the foot."""
+    st, period = g.st, g.period
+    s = (ph[sw] - STANCE_END) / (1.0 - STANCE_END)
+    k = kstep[sw]
+    t_to = (k + lg.phase0 + STANCE_END) * period
+    t_hs = (k + 1 + lg.phase0) * period
+    fk_now = hip_w[sw] + np.stack([np.zeros_like(s), fy[sw], fz[sw]], axis=1)
+    a_to = g.foot_point(lg, lg.ankle0, np.full(s.shape, g.p_to), yaw_f, g.footprint(lg, k))
+    a_hs = g.foot_point(lg, lg.ankle0, np.full(s.shape, g.p_hs), yaw_f, g.footprint(lg, k + 1))
+    d0 = a_to - g.fk_at(lg, t_to, STANCE_END)
+    d1 = a_hs - g.fk_at(lg, t_hs, 1.0)
+    w = _smooth(s)[:, None]
+    target = fk_now + d0 * (1 - w) + d1 * w
+    # lateral clearance around the stance leg
+    target[:, 0] += lg.side * st.swing_clearance_m * np.sin(np.pi * s)
+    # pitch: the ankle curve, matched to the stance pitch at both ends
+    pitch_sw = pfk[sw] + (g.p_to - float(g.sagittal(np.array([STANCE_END]),
+                                                    g.hip_scale)[2][0])) * (1 - _smooth(s)) \
+        + (g.p_hs - float(g.sagittal(np.array([1.0]), g.hip_scale)[2][0])) * _smooth(s)
+    toe_rel = -g.p_to * (1.0 - _smooth(np.clip(s / 0.35, 0.0, 1.0)))
+    # toe clearance: lift the foot where its lowest point would come under 1.5 cm·sin
+    pts = []
+    for q in (lg.heel0, lg.toe0, np.array([lg.ball0[0], 0.0, lg.ball0[2]])):
+        rel = rot_x(-pitch_sw) @ (q - lg.ankle0)
+        pts.append(target[:, 1] + (rot_y(yaw_f) @ rel[..., None])[..., 0][:, 1])
+    lowest = np.min(np.stack(pts), axis=0) - g.ground
+    want = 0.015 * np.sin(np.pi * s)
+    target[:, 1] += np.maximum(0.0, want - lowest)
+    return target, pitch_sw, toe_rel
+
+
+def _pose_leg(g: _Gait, pose: _Pose, lg: _Leg, pos, delta_p) -> None:
+    """The leg's thigh, calf, foot and toes: the stance foot planted on its footprint and
+    rolled over heel, sole and ball, the swing foot along :func:`_swing_ankle`, the knee by
+    two-bone IK towards the toes."""
+    t_frames = g.t_frames
     F = len(t_frames)
-    world_R = np.repeat(R0[None], F, axis=0)        # filled joint by joint
-    world_p = np.repeat(P0[None], F, axis=0)
-    delta = np.repeat(np.eye(3)[None, None], F, axis=0).repeat(J, axis=1)
-    explicit = np.zeros(J, dtype=bool)
+    tau = t_frames / g.period - lg.phase0
+    ph = tau % 1.0
+    kstep = np.floor(tau)
+    stance = ph < STANCE_END
+    yaw_f = g.leg_yaw(lg)
+    hip_w = g.hip_pos(lg, pos, delta_p)
+    fz, fy, pfk = g.sagittal(ph, g.hip_scale)
+    pitch = np.where(stance, g.stance_pitch(ph), pfk)
+    ankle_t = np.zeros((F, 3))
+    toe_rel = np.zeros(F)
+    # stance: on the footprint
+    if np.any(stance):
+        ankle_t[stance] = g.foot_point(lg, lg.ankle0, pitch[stance], yaw_f,
+                                       g.footprint(lg, kstep[stance]))
+        ankle_t[stance, 1] += np.interp(pitch[stance], *lg.lift)
+        toe_rel[stance] = np.where(pitch[stance] < 0, -pitch[stance], 0.0)
+    sw = ~stance
+    if np.any(sw):
+        ankle_t[sw], pitch[sw], toe_rel[sw] = _swing_ankle(g, lg, sw, ph, kstep, hip_w, fy, fz,
+                                                           pfk, yaw_f)
+    # two-bone IK, knee towards the toes
+    pole = np.stack([np.full(F, np.sin(yaw_f)), np.zeros(F), np.full(F, np.cos(yaw_f))],
+                    axis=1)
+    knee_w, ankle_w = two_bone_ik(hip_w, ankle_t, pole, lg.l1, lg.l2,
+                                  min_bend_deg=float(np.degrees(lg.rest_bend)))
+    side_axis = np.cross(pole, ankle_w - hip_w)
+    side_axis /= np.linalg.norm(side_axis, axis=1, keepdims=True)
+    x_axis = np.array([1.0, 0.0, 0.0])
+    pose.set(lg.hip, bone_delta(lg.knee0 - lg.hip0, x_axis, knee_w - hip_w, side_axis))
+    pose.set(lg.knee, bone_delta(lg.ankle0 - lg.knee0, x_axis, ankle_w - knee_w, side_axis))
+    pose.set(lg.ankle, rot_y(yaw_f) @ rot_x(-pitch))
+    pose.set(lg.ball, rot_y(yaw_f) @ rot_x(-(pitch + toe_rel)))
 
-    def set_delta(name_or_j, d):
-        j = name_or_j if isinstance(name_or_j, int) else idx[name_or_j]
-        delta[:, j] = d
-        explicit[j] = True
 
-    set_delta("pelvis", delta_p)
-    set_delta("Root", np.eye(3))
-
-    # legs
-    for lg in legs:
-        tau = t_frames / period - lg.phase0
-        ph = tau % 1.0
-        kstep = np.floor(tau)
-        stance = ph < STANCE_END
-        yaw_f = leg_yaw(lg)
-        hip_w = hip_pos(lg, pos, delta_p)
-        fz, fy, pfk = sagittal(ph, hip_scale)
-        pitch = np.where(stance, stance_pitch(ph), pfk)
-        ankle_t = np.zeros((F, 3))
-        toe_rel = np.zeros(F)
-        # stance: on the footprint
-        if np.any(stance):
-            ankle_t[stance] = foot_point(lg, lg.ankle0, pitch[stance], yaw_f,
-                                         footprint(lg, kstep[stance]))
-            ankle_t[stance, 1] += np.interp(pitch[stance], *lift_tables[id(lg)])
-            toe_rel[stance] = np.where(pitch[stance] < 0, -pitch[stance], 0.0)
-        sw = ~stance
-        if np.any(sw):
-            s = (ph[sw] - STANCE_END) / (1.0 - STANCE_END)
-            k = kstep[sw]
-            t_to = (k + lg.phase0 + STANCE_END) * period
-            t_hs = (k + 1 + lg.phase0) * period
-            fk_now = hip_w[sw] + np.stack([np.zeros_like(s), fy[sw], fz[sw]], axis=1)
-
-            a_to = foot_point(lg, lg.ankle0, np.full(s.shape, p_to), yaw_f, footprint(lg, k))
-            a_hs = foot_point(lg, lg.ankle0, np.full(s.shape, p_hs), yaw_f,
-                              footprint(lg, k + 1))
-            d0 = a_to - fk_at(lg, t_to, STANCE_END)
-            d1 = a_hs - fk_at(lg, t_hs, 1.0)
-            w = _smooth(s)[:, None]
-            target = fk_now + d0 * (1 - w) + d1 * w
-            # lateral clearance around the stance leg
-            target[:, 0] += lg.side * st.swing_clearance_m * np.sin(np.pi * s)
-            # pitch: the ankle curve, matched to the stance pitch at both ends
-            pitch_sw = pfk[sw] + (p_to - float(sagittal(np.array([STANCE_END]),
-                                                        hip_scale)[2][0])) * (1 - _smooth(s)) \
-                + (p_hs - float(sagittal(np.array([1.0]), hip_scale)[2][0])) * _smooth(s)
-            pitch[sw] = pitch_sw
-            toe_rel[sw] = -p_to * (1.0 - _smooth(np.clip(s / 0.35, 0.0, 1.0)))
-            # toe clearance: lift the foot where its lowest point would come under 1.5 cm·sin
-            pts = []
-            for q in (lg.heel0, lg.toe0, np.array([lg.ball0[0], 0.0, lg.ball0[2]])):
-                rel = rot_x(-pitch_sw) @ (q - lg.ankle0)
-                pts.append(target[:, 1] + (rot_y(yaw_f) @ rel[..., None])[..., 0][:, 1])
-            lowest = np.min(np.stack(pts), axis=0) - ground
-            want = 0.015 * np.sin(np.pi * s)
-            target[:, 1] += np.maximum(0.0, want - lowest)
-            ankle_t[sw] = target
-        # two-bone IK, knee towards the toes
-        pole = np.stack([np.full(F, np.sin(yaw_f)), np.zeros(F), np.full(F, np.cos(yaw_f))],
-                        axis=1)
-        knee_w, ankle_w = two_bone_ik(hip_w, ankle_t, pole, lg.l1, lg.l2,
-                                      min_bend_deg=float(np.degrees(lg.rest_bend)))
-        side_axis = np.cross(pole, ankle_w - hip_w)
-        side_axis /= np.linalg.norm(side_axis, axis=1, keepdims=True)
-        x_axis = np.array([1.0, 0.0, 0.0])
-        d_thigh = bone_delta(lg.knee0 - lg.hip0, x_axis, knee_w - hip_w, side_axis)
-        d_calf = bone_delta(lg.ankle0 - lg.knee0, x_axis, ankle_w - knee_w, side_axis)
-        d_foot = rot_y(yaw_f) @ rot_x(-pitch)
-        d_ball = rot_y(yaw_f) @ rot_x(-(pitch + toe_rel))
-        set_delta(lg.hip, d_thigh)
-        set_delta(lg.knee, d_calf)
-        set_delta(lg.ankle, d_foot)
-        set_delta(lg.ball, d_ball)
-
-    # trunk: spine blends from the pelvis to the counter-rotated thorax; head level
+def _pose_trunk(g: _Gait, pose: _Pose, yaw_p, roll_p, tilt_p) -> np.ndarray:
+    """The spine blends from the pelvis to the counter-rotated thorax; the head level; the
+    clavicles with the thorax. Returns the thorax's rotation."""
+    st = g.st
     yaw_t = -st.thorax_counter * yaw_p
     roll_t = -0.3 * roll_p
     for frac, name in ((1 / 3, "spine_01"), (2 / 3, "spine_02"), (1.0, "spine_03")):
         yw = (1 - frac) * yaw_p + frac * yaw_t
         rl = (1 - frac) * roll_p + frac * roll_t
         tl = (1 - frac) * tilt_p
-        set_delta(name, rot_y(-yw) @ rot_z(rl) @ rot_x(tl))
-    d_thorax = delta[:, idx["spine_03"]]
-    set_delta("neck_01", rot_y(0.5 * st.thorax_counter * yaw_p) @ rot_z(0.5 * roll_t))
-    set_delta("head", np.eye(3))
-    set_delta("clavicle_l", d_thorax)
-    set_delta("clavicle_r", d_thorax)
+        pose.set(name, rot_y(-yw) @ rot_z(rl) @ rot_x(tl))
+    d_thorax = pose.delta[:, pose.idx["spine_03"]]
+    pose.set("neck_01", rot_y(0.5 * st.thorax_counter * yaw_p) @ rot_z(0.5 * roll_t))
+    pose.set("head", np.eye(3))
+    pose.set("clavicle_l", d_thorax)
+    pose.set("clavicle_r", d_thorax)
+    return d_thorax
 
-    # arms: down from the A-pose, then swing (antiphase with the same-side leg)
+
+def _pose_arms(g: _Gait, pose: _Pose, d_thorax) -> None:
+    """The arms: down from the A-pose to clear the torso, then a swing in antiphase with the
+    same-side leg, the elbow flexing as the arm swings forward."""
+    st, P0, idx = g.st, g.P0, g.idx
     for side, phase0 in (("l", 0.0), ("r", 0.5)):
         sgn = 1.0 if side == "l" else -1.0
         ju, jf, jh = idx[f"upperarm_{side}"], idx[f"lowerarm_{side}"], idx[f"hand_{side}"]
@@ -615,29 +650,42 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
         f0 = P0[jh] - P0[jf]
         lu, lf = float(np.linalg.norm(u0)), float(np.linalg.norm(f0))
         a_rest = float(np.arctan2(abs(u0[0]), -u0[1]))
-        a_tgt = _arm_clearance_abduction(body, sk, side, P0[ju], lu, lf)
+        a_tgt = _arm_clearance_abduction(g.body, g.body.skeleton, side, P0[ju], lu, lf)
         lower = rot_z(-sgn * (a_rest - a_tgt))
-        ph = (t_frames / period - phase0) % 1.0
+        ph = (g.t_frames / g.period - phase0) % 1.0
         flex = np.radians(st.arm_swing_deg) * np.cos(2 * np.pi * (ph - 0.5))
         d_upper = d_thorax @ rot_x(-flex) @ lower
         hinge = np.cross(u0, f0)
         hinge /= np.linalg.norm(hinge)
         e_rest = float(np.arccos(np.clip(np.dot(u0, f0) / (lu * lf), -1, 1)))
         elbow = np.radians(st.elbow_mean_deg + st.elbow_amp_deg * np.cos(2 * np.pi * (ph - 0.5)))
-        d_fore = d_upper @ axis_angle(hinge, elbow - e_rest)
-        set_delta(ju, d_upper)
-        set_delta(jf, d_fore)
+        pose.set(ju, d_upper)
+        pose.set(jf, d_upper @ axis_angle(hinge, elbow - e_rest))
 
-    # relaxed hands: fingers curl a little about their own X axis (Blender's bend axis)
+
+def _finger_curls(sk, R0) -> dict:
+    """Relaxed hands: each finger segment curls a little about its own X axis (Blender's bend
+    axis); joint → its rotation."""
     extra = {}
     for j, name in enumerate(sk.names):
         base, _, side = name.rpartition("_")
         finger, _, seg = base.partition("_")
         if side in ("l", "r") and finger in FINGER_CURL_DEG and seg in ("01", "02", "03"):
             extra[j] = axis_angle(R0[j][:, 0], np.radians(FINGER_CURL_DEG[finger][int(seg) - 1]))
+    return extra
 
-    # ---- world transforms down the hierarchy, then local ones -----------------------------
-    root_j = idx["Root"]
+
+def _local_transforms(g: _Gait, pose: _Pose, pos) -> tuple[np.ndarray, np.ndarray]:
+    """World transforms down the hierarchy (joints without a rotation of their own follow
+    their parent, fingers curled), then the local ones: (F, J, 4) quaternions and (F, J, 3)
+    translations."""
+    sk, R0, P0, speed, t_frames = g.body.skeleton, g.R0, g.P0, g.speed, g.t_frames
+    F, J = len(t_frames), len(sk.names)
+    delta, explicit = pose.delta, pose.explicit
+    extra = _finger_curls(sk, R0)
+    world_R = np.repeat(R0[None], F, axis=0)
+    world_p = np.repeat(P0[None], F, axis=0)
+    root_j = g.idx["Root"]
     for j, p in enumerate(sk.parents):
         if j in extra and not explicit[j] and p >= 0:
             delta[:, j] = delta[:, p] @ extra[j]
@@ -646,7 +694,7 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
         world_R[:, j] = delta[:, j] @ R0[j]
         if j == root_j:
             world_p[:, j] = P0[j] + np.stack([np.zeros(F), np.zeros(F), speed * t_frames], 1)
-        elif j == pelvis_j:
+        elif j == g.pelvis_j:
             world_p[:, j] = pos
         elif p >= 0:
             world_p[:, j] = world_p[:, p] + (world_R[:, p] @ sk.rest_local[j, :3, 3][:, None])[
@@ -662,17 +710,43 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
             lt = (rpt @ (world_p[:, j] - world_p[:, p])[..., None])[..., 0]
         rot_local[:, j] = mat_to_quat(lr)
         trans_local[:, j] = lt
-    rot_local = make_continuous(rot_local)
+    return make_continuous(rot_local), trans_local
 
-    steps_per_min = 120.0 / period
+
+def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "catwalk",
+                fps: float = 30, closing_frame: bool = False,
+                arm_swing_deg: float | None = None) -> Motion:
+    """A looping walk for a rigged body (see the module docstring).
+
+    ``arm_swing_deg``: the arms' swing amplitude about the shoulder, forward and back (default
+    the style's: 11° catwalk, 16° normal); up to 90° (arms raised to the horizontal at the
+    front of the swing — and, beyond the shoulder's ≈ 60° of extension, at its back: a stress
+    case, not a pose).
+
+    The clip holds a whole number of gait cycles: ``seconds`` is rounded to whole cycles (and
+    frames). Frame ``frames`` (one past the last) would equal frame 0 moved forward by
+    ``meta["loop_offset"]``; ``closing_frame=True`` appends it (for players that need the
+    closing key; the Motion is then not ``loop``-wrapped for velocities).
+    """
+    st = _checked_style(body, seconds, speed, style, fps, arm_swing_deg)
+    g = _Gait(body, st, seconds, speed, fps, closing_frame)
+    pos, delta_p, yaw_p, roll_p, tilt_p, _ = g.pelvis_state(g.t_frames)
+    pose = _Pose(len(g.t_frames), len(body.skeleton.names), g.idx)
+    pose.set("pelvis", delta_p)
+    pose.set("Root", np.eye(3))
+    for lg in g.legs:
+        _pose_leg(g, pose, lg, pos, delta_p)
+    d_thorax = _pose_trunk(g, pose, yaw_p, roll_p, tilt_p)
+    _pose_arms(g, pose, d_thorax)
+    rot_local, trans_local = _local_transforms(g, pose, pos)
     meta = {
-        "style": style, "speed_m_s": float(speed), "stride_m": float(stride),
-        "step_length_m": float(stride / 2), "cycle_s": float(period), "cycles": cycles,
-        "cadence_steps_per_min": float(steps_per_min), "hip_height_m": hip_height,
-        "leg_length_m": leg_length, "hip_amplitude_scale": float(hip_scale),
-        "loop_offset": [0.0, 0.0, float(speed * clip)],
-        "step_width_m": float(abs(foot_x(legs[0]) - foot_x(legs[1]))),
-        "pelvis_height_m": y0, "pelvis_bob_m": bob,
+        "style": style, "speed_m_s": float(speed), "stride_m": float(g.stride),
+        "step_length_m": float(g.stride / 2), "cycle_s": float(g.period), "cycles": g.cycles,
+        "cadence_steps_per_min": float(120.0 / g.period), "hip_height_m": g.hip_height,
+        "leg_length_m": g.leg_length, "hip_amplitude_scale": float(g.hip_scale),
+        "loop_offset": [0.0, 0.0, float(speed * g.clip)],
+        "step_width_m": float(abs(g.foot_x(g.legs[0]) - g.foot_x(g.legs[1]))),
+        "pelvis_height_m": g.y0, "pelvis_bob_m": g.bob,
         "stance_end": STANCE_END,
     }
     return Motion(fps=float(fps), rotations=rot_local, translations=trans_local,
@@ -681,108 +755,4 @@ def walk_motion(body: Body, seconds: float, speed: float = 1.2, style: str = "ca
 
 # ---- checks (used by tests and `catwalk bench gait`) ------------------------------------------
 
-def foot_vertices(body: Body, side: str) -> np.ndarray:
-    """Indices of the vertices that the foot and toe bones of ``side`` ('l'/'r') carry."""
-    sk = body.skeleton
-    w = np.zeros(len(body.vertices))
-    for name in (f"foot_{side}", f"ball_{side}"):
-        w += (body.skin_weights * (body.skin_joints == sk.index(name))).sum(axis=1)
-    return np.flatnonzero(w > 0.3)
 
-
-def foot_sliding(body: Body, motion: Motion, verts: np.ndarray, contact: float = 0.004):
-    """Accumulated horizontal motion (m) of the stance foot's floor-contact vertices, one value
-    per step: for each pair of consecutive stance frames, the mean horizontal displacement of
-    the foot's vertices lower than ``contact`` in both, summed over the stance phase."""
-    period = motion.meta["cycle_s"]
-    t = np.arange(motion.frames) / motion.fps
-    out = []
-    for side, phase0 in (("l", 0.0), ("r", 0.5)):
-        fv = foot_vertices(body, side)
-        tau = t / period - phase0
-        ph, step = tau % 1.0, np.floor(tau)
-        for k in np.unique(step):
-            frames = np.flatnonzero((step == k) & (ph < STANCE_END))
-            total = 0.0
-            for a, c in zip(frames[:-1], frames[1:], strict=True):
-                va, vc = verts[a, fv], verts[c, fv]
-                touch = (va[:, 1] < contact) & (vc[:, 1] < contact)
-                if touch.any():
-                    total += float(np.linalg.norm((vc - va)[touch][:, [0, 2]], axis=1).mean())
-            if len(frames) >= 2:
-                out.append(total)
-    return np.array(out)
-
-
-def walk_folds(body: Body, verts: np.ndarray, every: int = 2) -> int:
-    """The most triangle pairs folded over (normals more than 90° apart) in any of the walk's
-    frames (every ``every``-th) that were smooth (under 60°) at rest: the skinning's creases."""
-    smooth = smooth_pairs(body.vertices, body.faces)
-    return max(len(folds(np.asarray(verts[i], np.float64), body.vertices, body.faces, smooth))
-               for i in range(0, len(verts), every))
-
-
-def sagittal_angles(body: Body, motion: Motion, side: str = "l"):
-    """(phase, hip, knee, ankle) in degrees over the frames of a walk, measured from the joint
-    positions in the sagittal (y, z) plane the way the tables define them: hip flexion of the
-    thigh against the pelvis (lab convention: thigh angle to the vertical + the mean anterior
-    tilt), knee flexion, ankle dorsiflexion; the rest pose reads 0 for the knee and ankle."""
-    sk = body.skeleton
-    names = [f"thigh_{side}", f"calf_{side}", f"foot_{side}", f"ball_{side}"]
-    js = [sk.index(n) for n in names]
-    world = joint_world_matrices(sk, motion.rotations, motion.translations)[..., :3, 3]
-    rest = sk.rest_world[:, :3, 3]
-
-    def seg(p, a, b):
-        v = p[..., b, :] - p[..., a, :]
-        return np.degrees(np.arctan2(v[..., 2], -v[..., 1]))   # + = distal end forward
-
-    def foot(p):
-        v = p[..., js[3], :] - p[..., js[2], :]
-        return np.degrees(np.arctan2(v[..., 1], v[..., 2]))    # + = toes up
-
-    thigh, shank, ft = seg(world, js[0], js[1]), seg(world, js[1], js[2]), foot(world)
-    thigh0, shank0, ft0 = seg(rest, js[0], js[1]), seg(rest, js[1], js[2]), foot(rest)
-    hip = thigh - thigh0 + PELVIC_TILT_MEAN_DEG
-    knee = (thigh - thigh0) - (shank - shank0)
-    ankle = (ft - ft0) - (shank - shank0)
-    phase0 = 0.0 if side == "l" else 0.5
-    phase = (np.arange(motion.frames) / motion.fps / motion.meta["cycle_s"] - phase0) % 1.0
-    return phase, hip, knee, ankle
-
-
-def armpit_faces(body: Body, reach: float = 0.06) -> np.ndarray:
-    """Indices of the body's triangles with a corner within ``reach`` (m, at rest) of a seam
-    between the torso and an arm: the armpits and the tops of the shoulders."""
-    from scipy.spatial import cKDTree  # deferred: scipy loads in ≈ 0.3 s; only this path needs it
-
-
-    v = np.asarray(body.vertices, np.float64)
-    tri = np.asarray(body.faces, np.int64)
-    seam = v[armpit_seam(tri, body.parts)]
-    d, _ = cKDTree(seam).query(v, distance_upper_bound=reach)
-    return np.flatnonzero(np.isfinite(d)[tri].any(axis=1))
-
-
-def inverted_triangles(body: Body, motion: Motion, verts: np.ndarray,
-                       faces: np.ndarray | None = None) -> np.ndarray:
-    """Per frame, how many of ``faces`` (default: all the body's) the skinning turns inside out:
-    the posed triangle's normal points away from its rest normal carried by the blended
-    rotation of its corners (the skinning's own frame there). A smooth rig has none; linear
-    blend skinning folds a joint's crease over itself where the weights change too abruptly
-    (the armpit with MakeHuman's weights, :mod:`catwalk.body.rig`)."""
-    tri = np.asarray(body.faces if faces is None else faces, dtype=np.int64)
-    corners = np.unique(tri)
-    local = np.searchsorted(corners, tri)
-    joints = body.skin_joints[corners].astype(np.int64)
-    weights = body.skin_weights[corners].astype(np.float64)
-    rest = face_normals(np.asarray(body.vertices, np.float64), tri)
-    mats = skinning_matrices(body.skeleton, joint_world_matrices(
-        body.skeleton, motion.rotations, motion.translations))[..., :3, :3]
-    out = np.zeros(len(verts), dtype=np.int64)
-    for f in range(len(verts)):
-        rot = np.einsum("vk,vkij->vij", weights, mats[f][joints])[local].sum(axis=1)
-        carried = np.einsum("tij,tj->ti", rot, rest)
-        posed = face_normals(np.asarray(verts[f], np.float64), tri)
-        out[f] = int((np.einsum("ti,ti->t", carried, posed) < 0).sum())
-    return out
