@@ -10,7 +10,7 @@ import time
 class ProgressBar:
     """The try-on's overall progress on stderr: one line redrawn in place on a terminal, a line
     every 10 % (and at each new stage) when stderr is not a terminal (e.g. in CI logs).
-    Called as ``bar(fraction, stage)``."""
+    A progress callback (:mod:`catwalk.progress`): ``bar(stage, done, total)``."""
 
     def __init__(self, stream=None, quiet: bool = False):
         self.stream = stream or sys.stderr
@@ -20,9 +20,10 @@ class ProgressBar:
         self.t0 = time.perf_counter()
         self.last_pct = -1
 
-    def __call__(self, fraction: float, stage: str) -> None:
+    def __call__(self, stage: str, done: float, total: float = 1.0) -> None:
         if self.quiet:
             return
+        fraction = done / total if total else 1.0
         pct = int(100 * fraction)
         el = time.perf_counter() - self.t0
         eta = el / fraction * (1 - fraction) if fraction > 0 else 0.0

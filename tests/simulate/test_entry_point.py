@@ -18,7 +18,8 @@ STAGES = ["placing", "sewing", "settling", "relief", "gait", "skinning", "blendi
 def first(body_glb, repo_root):
     reports = []
     res = catwalk.tryon(body_glb, repo_root / SKIRT,
-                        progress=lambda f, s: reports.append((f, s)), **SMALL)
+                        progress=lambda s, done, total: reports.append((done / total, s)),
+                        **SMALL)
     return res, reports
 
 
@@ -54,7 +55,7 @@ def test_progress_is_one_monotonic_fraction_through_every_stage(first):
 def test_cancel_is_honoured_in_every_stage(body_glb, repo_root, stage):
     state = {"stage": None, "asked_at": None, "polls": []}
 
-    def report(fraction, s):
+    def report(s, done, total):
         state["stage"] = s
 
     def cancel():

@@ -99,7 +99,7 @@ def test_tryon_interrupt_leaves_no_file(body_glb, tmp_path, repo_root, monkeypat
     import catwalk.cli.tryon as cmds
 
     class Stop(cmds.ProgressBar):
-        def __call__(self, fraction, stage):
+        def __call__(self, stage, done, total=1.0):
             if stage == "walking":
                 raise KeyboardInterrupt
 

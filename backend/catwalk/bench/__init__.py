@@ -27,8 +27,9 @@ def add_output_flags(parser) -> None:
     parser.add_argument("--json", action="store_true", help="print JSON")
 
 
-def progress_lines(args):
-    """A ``progress(what)`` printing a line per step, or None when quiet or printing JSON."""
+def log_lines(args):
+    """A ``log(what)`` printing a line per step of a benchmark, or None when quiet or printing
+    JSON (a log of steps, not a progress callback: :mod:`catwalk.progress`)."""
     if args.json or args.quiet:
         return None
     return lambda what: print(what, flush=True)

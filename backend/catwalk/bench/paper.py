@@ -430,7 +430,7 @@ def main(args) -> int:
     try:
         # each stage of each run from 0 to 100 %
         r = run(args.seconds, tuple(args.modes),
-                progress=lambda stage, i, total: bar(i / total if total else 1.0, stage),
+                progress=bar,
                 threads=args.threads,
                 walk=walk_settings(args), reference=args.reference)
     finally:

@@ -38,7 +38,7 @@ from catwalk.bench import (
     add_walk_seconds,
     check_walk_seconds,
     cpu_model,
-    progress_lines,
+    log_lines,
     walk_errors,
 )
 from catwalk.bench.chart import Chart
@@ -143,16 +143,16 @@ class _Scene:
 
 
 def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "accurate"),
-        progress=None) -> dict:
-    progress = progress or (lambda what: None)
+        log=None) -> dict:
+    log = log or (lambda what: None)
     scene = _Scene(seconds)
     ref_settings = reference_settings(preset("balanced"))
     t0 = time.perf_counter()
-    progress("reference")
+    log("reference")
     ref_dressed = scene.dress(ref_settings)
     ref = scene.walk(ref_dressed, ref_settings)
     ref_s = time.perf_counter() - t0
-    progress("noise floor")
+    log("noise floor")
     again = scene.walk(ref_dressed, ref_settings, nudge=NUDGE)
     noise = surface_rms(ref["positions"], ref["triangles"], again["positions"],
                         again["triangles"])
@@ -165,7 +165,7 @@ def run(seconds: float = 2.0, grid: bool = False, presets=("fast", "balanced", "
         ch = dict(changes)
         base = preset(ch.pop("preset"))
         settings = base.with_(**ch)
-        progress(label)
+        log(label)
         try:
             r = scene.run(settings)
         except CatwalkError as exc:   # a failed run is a row of the table
@@ -260,7 +260,7 @@ def register(bench) -> None:
 def main(args) -> int:
     check_walk_seconds(args.seconds)
     r = run(args.seconds, args.grid,
-            progress=progress_lines(args))
+            log=log_lines(args))
     if args.png:
         plot(r, args.png)
     print(json.dumps(r, indent=2) if args.json else format_table(r))

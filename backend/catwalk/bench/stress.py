@@ -45,7 +45,7 @@ from catwalk.bench import (
     add_output_flags,
     add_walk_settings,
     cpu_model,
-    progress_lines,
+    log_lines,
     walk_errors,
     walk_settings,
 )
@@ -156,7 +156,7 @@ ALL_AXES = ("step", "stiffness", "speed", "arms", "garment", "long")
 
 
 def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
-        progress=None, collider: str | None = None, sizes=("M",),
+        log=None, collider: str | None = None, sizes=("M",),
         grid: tuple[str, str] | None = None, walk: dict | None = None,
         preset_name: str = "balanced") -> dict:
     """The runs of the module docstring on a preset (``balanced`` unless ``preset_name``; its
@@ -165,7 +165,7 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
     every pair of their values. The garment axis walks each catalogue garment in each of
     ``sizes`` it has (the default scene's garment in M, or its middle size). A cell asked twice
     (the default scene is each axis's 1× cell) is simulated once."""
-    progress = progress or (lambda what: None)
+    log = log or (lambda what: None)
     files = {p.stem: p for p in catalogue_files()}
     if garment_name not in files:
         raise InputError(f"no catalogue garment {garment_name!r} (choose from "
@@ -183,7 +183,7 @@ def run(garment_name: str = "dress", axes=ALL_AXES, long_seconds: float = 20.0,
            "walk_settings": walk or {}, "cells": []}
 
     def add(axis, value, result):
-        progress(f"{axis} {value}: {result['status']}")
+        log(f"{axis} {value}: {result['status']}")
         out["cells"].append({"axis": axis, "value": value, **result})
 
     for axis in (a for a in ALL_AXES if a in axes):
@@ -341,7 +341,7 @@ def main(args) -> int:
     if not 1.0 <= args.long_seconds <= 400.0:
         raise InputError(f"--long-seconds must be within 1–400, got {args.long_seconds}")
     axes = args.axes if args.axes is not None else (() if args.grid else ALL_AXES)
-    r = run(args.garment, tuple(axes), args.long_seconds, progress=progress_lines(args),
+    r = run(args.garment, tuple(axes), args.long_seconds, log=log_lines(args),
             collider=args.collider, sizes=tuple(args.sizes),
             grid=tuple(args.grid) if args.grid else None, walk=walk_settings(args),
             preset_name=args.preset)

@@ -102,6 +102,10 @@ def surface_distances(body_v: np.ndarray, body_f: np.ndarray, target: reg.Target
             "coverage": round(float(np.mean(covered & (d_bs < 0.01))), 4)}
 
 
+#: the registration's stages, in order (what ``progress`` counts)
+STAGES = ("measure", "fit", "similarity", "register", "rig")
+
+
 class _Clock:
     def __init__(self, progress, cancel=None, t0: float | None = None):
         self.t0 = time.perf_counter() if t0 is None else t0
@@ -115,7 +119,7 @@ class _Clock:
         self.seconds[name] = round(now - self.last, 3)
         self.last = now
         if self.progress is not None:
-            self.progress(name, round(now - self.t0, 2))
+            self.progress(name, STAGES.index(name) + 1, len(STAGES))
         if self.cancel is not None and self.cancel():
             raise Cancelled("body from scan cancelled")
 
@@ -251,10 +255,10 @@ def body_from_scan(scan, sex: str | None = None, progress=None, cancel=None,
                    t0: float | None = None) -> tuple[Body, dict]:
     """A rigged body registered to ``scan`` (a :class:`catwalk.exchange.scan.Scan`), and the
     report: the scan's and the body's measurements, surface distances both ways (mm), the
-    registration's scale and arm angles, seconds per stage. ``progress(stage, seconds)``
-    is told as each stage ends (seconds since ``t0``, a ``time.perf_counter()`` reading;
-    default: the call); ``cancel()`` is asked after each stage and before every non-rigid
-    round (:class:`~catwalk.errors.Cancelled`)."""
+    registration's scale and arm angles, seconds per stage (since ``t0``, a
+    ``time.perf_counter()`` reading; default: the call). ``progress(stage, done, total)``
+    (:mod:`catwalk.progress`) is told as each of the :data:`STAGES` ends; ``cancel()`` is asked
+    after each stage and before every non-rigid round (:class:`~catwalk.errors.Cancelled`)."""
     clock = _Clock(progress, cancel, t0)
     scan_faces, floor = without_floor(scan.vertices, scan.faces)
     vertices, scan_faces = without_islands(scan.vertices, scan_faces)

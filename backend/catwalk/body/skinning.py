@@ -159,7 +159,8 @@ def body_frames(body: Body, motion: Motion, *, cancel=None, progress=None,
     Velocities are central differences; a looping motion wraps around, its last frame followed
     by the first shifted by ``motion.meta["loop_offset"]`` (the distance walked per loop).
     The frames are skinned ``chunk`` at a time; between two chunks ``cancel()`` is asked
-    (:class:`~catwalk.errors.Cancelled`) and ``progress(done, frames)`` told.
+    (:class:`~catwalk.errors.Cancelled`) and ``progress("skinning", done, frames)`` told
+    (:mod:`catwalk.progress`).
     """
     if body.skeleton is None or body.skin_joints is None or body.skin_weights is None:
         raise InputError("this body has no rig (skeleton and skin weights); cannot animate it")
@@ -175,7 +176,7 @@ def body_frames(body: Body, motion: Motion, *, cancel=None, progress=None,
             raise Cancelled("try-on cancelled")
         parts.append(skinner(mats[a:a + chunk]))
         if progress is not None:
-            progress(min(a + chunk, len(mats)), len(mats))
+            progress("skinning", min(a + chunk, len(mats)), len(mats))
     verts = np.concatenate(parts) if len(parts) > 1 else parts[0]
     nf = verts.shape[0]
     vel = np.empty_like(verts)

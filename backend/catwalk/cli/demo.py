@@ -67,7 +67,7 @@ def main(args) -> int:
             t0 = time.perf_counter()
             bar = ProgressBar()
             if job["status"] != "done":
-                job = api.follow(job["id"], lambda ev, j: bar(j["progress"], j["stage"]))
+                job = api.follow(job["id"], lambda ev, j: bar(j["stage"], j["progress"], 1.0))
                 bar.done()
             if job["status"] != "done":
                 raise SimulationError(f"the try-on {job['status']}: {job.get('error')}")

@@ -85,11 +85,11 @@ def _from_scan(args) -> int:
     t0 = time.perf_counter()
     scan = load_scan(args.scan)
 
-    def progress(stage, seconds):
-        print(f"{stage}: done at {seconds:.1f} s", file=sys.stderr)
+    def progress(stage, done, total):
+        print(f"{stage}: done at {time.perf_counter() - t0:.1f} s", file=sys.stderr)
 
     load_s = time.perf_counter() - t0
-    progress("load", load_s)
+    progress("load", 0, 1)
     try:
         body, report = body_from_scan(scan, sex=args.sex, progress=progress, t0=t0)
     except InputError as exc:   # name the file: "SCAN: scan: covers 40 % of a body; …"

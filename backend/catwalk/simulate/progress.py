@@ -20,8 +20,7 @@ import threading
 from collections.abc import Callable
 
 from catwalk.errors import Cancelled
-
-Report = Callable[[float, str], None]
+from catwalk.progress import ProgressFn, fraction
 
 # Expected cost of one unit of each stage, in "one sewing chunk" units (1/30 s of simulated
 # sewing on the fast preset ≈ 14 ms on the reference machine; a walk frame ≈ 2.5 of them).
@@ -61,11 +60,12 @@ def export_weight(frames: int) -> float:
 class Progress:
     """Progress and cancellation of one piece of work (module docstring).
 
-    ``plan``: ``[(stage, weight), …]`` in order; ``report(fraction, stage)`` is called on
-    every change of stage and whenever the fraction grew by at least ``step`` (default 0.5 %);
+    ``plan``: ``[(stage, weight), …]`` in order; ``report(stage, fraction, 1.0)`` (the one
+    progress shape, :mod:`catwalk.progress`, over the whole work) is called on every change of
+    stage and whenever the fraction grew by at least ``step`` (default 0.5 %);
     ``cancel()``: asked by :meth:`check` (and by every report from the simulation)."""
 
-    def __init__(self, plan: list[tuple[str, float]], report: Report | None = None,
+    def __init__(self, plan: list[tuple[str, float]], report: ProgressFn | None = None,
                  cancel: Callable[[], bool] | None = None, step: float = 0.005):
         if not plan:
             raise ValueError("a progress plan needs at least one stage")
@@ -90,7 +90,7 @@ class Progress:
     def __call__(self, stage: str, i: float, total: float) -> None:
         """A report from the work: ``i`` of ``total`` done in ``stage``. Asks ``cancel()``."""
         self.check()
-        self.update(stage, i / total if total else 1.0)
+        self.update(stage, fraction(i, total))
 
     def cancelled(self) -> bool:
         """The ``cancel()`` the simulation asks (False without a cancel check)."""
@@ -119,7 +119,7 @@ class Progress:
             if tell:
                 self._told, self._told_stage = fraction, stage
         if tell and self._report is not None:
-            self._report(fraction, stage)
+            self._report(stage, fraction, 1.0)
 
     def done(self, stage: str = "done") -> None:
         """The work is complete: fraction 1."""
@@ -127,8 +127,4 @@ class Progress:
             self.fraction, self.stage = 1.0, stage
             self._told, self._told_stage = 1.0, stage
         if self._report is not None:
-            self._report(1.0, stage)
-
-    def part(self, stage: str) -> Callable[[float, float], None]:
-        """A ``progress(i, total)`` for a helper that knows only its own count."""
-        return lambda i, total: self(stage, i, total)
+            self._report(stage, 1.0, 1.0)

@@ -208,7 +208,8 @@ def tryon(body, garment, *, size: str | None = None, fabric=None, seconds: float
     ``balanced``, ``accurate`` or a :class:`Settings`, with ``collider`` and ``h`` changed
     when given; ``speed`` (m/s) and ``style`` (``catwalk``, ``normal``) shape the walk.
 
-    ``progress(fraction, stage)``: the overall fraction 0..1 (monotonic) and the stage
+    ``progress(stage, fraction, 1.0)`` (:mod:`catwalk.progress`): the stage and the overall
+    fraction 0..1 (monotonic) of the try-on
     (``placing``, ``sewing``, ``settling``, ``relief``, ``gait``, ``skinning``,
     ``blending``, ``walking``, then ``done``); or a :class:`Progress` with a plan of the
     caller's (:func:`~catwalk.simulate.progress.tryon_plan` with the caller's own stages after

@@ -105,7 +105,7 @@ def walk_body_frames(body, motion: Motion, settings: Settings, *,
     full = Motion(motion.fps, np.concatenate([pre.rotations, motion.rotations]),
                   np.concatenate([pre.translations, motion.translations]), loop=False)
     verts, vels = body_frames(body, full, cancel=cancel,
-                              progress=lambda i, n: progress("skinning", i, n))
+                              progress=progress)
     rest = body.vertices.astype(np.float32)
     verts = np.concatenate([rest[None], verts])
     vels = np.concatenate([np.zeros_like(rest)[None], vels])

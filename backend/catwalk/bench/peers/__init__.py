@@ -37,7 +37,7 @@ from catwalk.bench import (
     add_walk_seconds,
     check_walk_seconds,
     cpu_model,
-    progress_lines,
+    log_lines,
 )
 from catwalk.bench.peers.scene import measure, paper_scene, rms_mm, welded
 from catwalk.cloth.solvers import ClothExplosionError
@@ -155,10 +155,10 @@ def _peer_row(scene, r: dict) -> dict:
     return row
 
 
-def _catwalk_rows(scene, progress) -> dict:
+def _catwalk_rows(scene, log) -> dict:
     rows = {}
     for mode in ("hybrid", "object"):
-        say = progress or (lambda *a: None)
+        say = log or (lambda *a: None)
         say(f"catwalk: walking with the {mode} collider")
         try:
             w = walk(scene.body, scene.motion, scene.dressed,
@@ -182,14 +182,14 @@ def _catwalk_rows(scene, progress) -> dict:
     return rows
 
 
-def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, progress=None,
+def run(seconds: float = 2.0, peers=PEERS, opts: dict | None = None, log=None,
         keep: str | None = None) -> dict:
     """Dress the scene, walk it with catwalk, run each peer on it, measure them all.
     ``keep``: a directory to keep the scene and the peers' results in."""
-    say = progress or (lambda *a: None)
+    say = log or (lambda *a: None)
     say("dressing the paper's scene")
     scene = paper_scene(seconds)
-    rows = _catwalk_rows(scene, progress)
+    rows = _catwalk_rows(scene, log)
     base = rows.get(f"catwalk-{scene.settings.collider}", {})   # catwalk's default
     with tempfile.TemporaryDirectory(prefix="catwalk-peers-") as tmp:
         work = Path(keep or tmp)
@@ -270,7 +270,7 @@ def main(args) -> int:
         if not 1 <= q <= 200:
             raise InputError(f"--blender-quality must be within 1–200, got {q}")
     r = run(args.seconds, tuple(args.peers), {"blender_quality": args.blender_quality},
-            progress=progress_lines(args), keep=args.keep)
+            log=log_lines(args), keep=args.keep)
     print(json.dumps(r, indent=2) if args.json else format_table(r))
     sys.stdout.flush()
     return 0

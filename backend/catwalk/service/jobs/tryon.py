@@ -72,7 +72,9 @@ class Beat(threading.Thread):
         self.timings: dict[str, float] = {}     # seconds spent in each stage
         self._since = time.perf_counter()
 
-    def report(self, fraction: float, stage: str) -> None:
+    def report(self, stage: str, fraction: float, total: float = 1.0) -> None:
+        """The try-on's overall progress (:class:`~catwalk.simulate.progress.Progress`'s
+        report: ``total`` is 1)."""
         if stage != self.stage:
             self.lap()
         self.fraction, self.stage = fraction, stage
