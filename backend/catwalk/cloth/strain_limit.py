@@ -6,8 +6,16 @@ use the ordered pass as their final clamp."""
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numba
 import numpy as np
+
+#: the ordered pass's processing order (:func:`tension_order`'s result, named): every point in
+#: processing order, the CSR (``ptr``) of each point's springs to earlier points
+#: (``springs``) and those points (``others``), each point's distance in springs from the
+#: centres (``level``), and which springs join two fronts (``cross``)
+ProcessingOrder = namedtuple("ProcessingOrder", "points ptr springs others level cross")
 
 #: the strain-limit methods (``Solver(method=…)``)
 METHOD_NONE, METHOD_ORDERED, METHOD_VASSILEV, METHOD_PROVOT = 0, 1, 2, 3

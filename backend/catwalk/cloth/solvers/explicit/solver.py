@@ -48,6 +48,7 @@ from catwalk.cloth.solvers import STATUS_NONFINITE, STATUS_OK, ClothExplosionErr
 from catwalk.cloth.solvers.explicit import kernels as K
 from catwalk.cloth.solvers.xpbd import kernels as xpbd_kernels
 from catwalk.cloth.state import PLANE_COLUMNS, State
+from catwalk.cloth.strain_limit import ProcessingOrder
 from catwalk.errors import InputError
 
 METHODS = {"none": strain_limit.METHOD_NONE, "ordered": strain_limit.METHOD_ORDERED,
@@ -186,9 +187,10 @@ class Solver:
                                                           model.n_limited)
         self._centres = None
         self._order_centres = None
-        self._order = (np.arange(n, dtype=np.int32), np.zeros(n + 1, dtype=np.int32),
-                       np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32),
-                       np.zeros(n, dtype=np.int64), np.zeros(0, dtype=np.uint8))
+        self._order = ProcessingOrder(np.arange(n, dtype=np.int32),
+                                      np.zeros(n + 1, dtype=np.int32),
+                                      np.zeros(0, dtype=np.int32), np.zeros(0, dtype=np.int32),
+                                      np.zeros(n, dtype=np.int64), np.zeros(0, dtype=np.uint8))
         self._order_lim = np.zeros(0)
         self._order_lim2 = np.zeros(0)
         self._order_pt_cross = np.zeros(n, dtype=np.uint8)
@@ -254,9 +256,10 @@ class Solver:
         self._centres = centres.copy()
         self._order_centres = centres.copy()
         m = self._model
-        self._order = strain_limit.tension_order(m.n_points, m.adj_ptr, m.adj_spring, m.adj_other,
-                                                 centres.astype(np.uint8), state.positions)
-        ptr, spr, cross = self._order[1], self._order[2], self._order[5]
+        self._order = ProcessingOrder(*strain_limit.tension_order(
+            m.n_points, m.adj_ptr, m.adj_spring, m.adj_other, centres.astype(np.uint8),
+            state.positions))
+        ptr, spr, cross = self._order.ptr, self._order.springs, self._order.cross
         self._order_lim = (1.0 + self.tau) * m.spring_rest[spr]
         # (1 − 1e-12)·lim²: a squared length at most this is surely ≤ lim after the square root
         self._order_lim2 = self._order_lim * self._order_lim * (1.0 - 1e-12)
@@ -267,7 +270,8 @@ class Solver:
         return True
 
     def processing_order(self, state: State):
-        """(points in processing order, CSR of springs to earlier points) for ``state``."""
+        """The ordered pass's :class:`~catwalk.cloth.strain_limit.ProcessingOrder` for
+        ``state``."""
         self._update_order(state)
         return self._order
 
@@ -342,7 +346,7 @@ class Solver:
         (:data:`~catwalk.cloth.solvers.explicit.kernels.StepModel`, ``StepSeams``, ``StepLimit``,
         ``StepOrder``, the planes, ``StepWork``) as plain
         tuples: numba types a named tuple several µs slower a call."""
-        op, optr, _, ooth = self._order[:4]
+        o = self._order
         w = self._work
         step_model = K.StepModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
                                  model.spring_rest, model.spring_k, model.spring_c,
@@ -352,7 +356,7 @@ class Solver:
         seams = K.StepSeams(self._seam_a, self._seam_b, self.seam_stiffness, self.seam_damping)
         limit = K.StepLimit(METHODS[self.method], self.tau, self.sweeps, react, self.share,
                             self.passes, self.provot_iterations, self.max_speed)
-        order = K.StepOrder(op, optr, ooth, self._order[5], self._order_lim, self._order_lim2,
+        order = K.StepOrder(o.points, o.ptr, o.others, o.cross, self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
         return (tuple(step_model), tuple(seams), tuple(limit), tuple(order),
