@@ -6,7 +6,7 @@ import { h, clear, nextId } from '../ui/dom.js';
 import { spinner, notice, errorNotice } from '../ui/feedback.js';
 import { hasWebGL } from '../viewer/webgl.js';
 import { showDressed } from '../viewer/dressed-view.js';
-import { fitLegend } from '../player/controls.js';
+import { fitMapToggle } from '../player/controls.js';
 import { urls } from '../router.js';
 import { fetchDressed, publishGarment, isUnauthorised } from './api.js';
 import { versionOf, sizeStatus, reportRows, hasDressed } from './status.js';
@@ -232,22 +232,5 @@ async function show3d( pv, key, id, version, s ) {
 		if ( pv.loading === key ) pv.loading = null;
 
 	}
-
-}
-
-/** "Fit map" (a toggle) and its legend, for the `player`. */
-function fitMapToggle( player ) {
-
-	const legend = fitLegend();
-	const toggle = h( 'button', { type: 'button', class: 'seg seg--toggle', 'aria-pressed': 'false' }, 'Fit map' );
-	toggle.addEventListener( 'click', () => {
-
-		const on = toggle.getAttribute( 'aria-pressed' ) !== 'true';
-		toggle.setAttribute( 'aria-pressed', String( on ) );
-		player.setFitMap( on );
-		legend.hidden = ! on;
-
-	} );
-	return [ h( 'div', { class: 'segs' }, toggle ), legend ];
 
 }

@@ -19,6 +19,23 @@ export function fitLegend() {
 
 }
 
+/** "Fit map" (a toggle) and its legend, for the `player` (one dressed view: the merchant's preview, a garment page). */
+export function fitMapToggle( player ) {
+
+	const legend = fitLegend();
+	const toggle = h( 'button', { type: 'button', class: 'seg seg--toggle', 'aria-pressed': 'false' }, 'Fit map' );
+	toggle.addEventListener( 'click', () => {
+
+		const on = toggle.getAttribute( 'aria-pressed' ) !== 'true';
+		toggle.setAttribute( 'aria-pressed', String( on ) );
+		player.setFitMap( on );
+		legend.hidden = ! on;
+
+	} );
+	return [ h( 'div', { class: 'segs' }, toggle ), legend ];
+
+}
+
 export function createControls( { transport, players, fps = 30, downloads = [], fitMapNote = null } ) {
 
 	const fitMapAvailable = players.length > 0 && players.every( ( p ) => p.fitMap );
