@@ -17,7 +17,7 @@ export function tryonForm( g, ctx, { sizes, size, bodyId } ) {
 
 	const form = h( 'form', { class: 'tryon-form', novalidate: true } );
 	const fabric = select( 'Fabric', g.fabrics.map( ( f, i ) => [ f, i === 0 ? `${ fabricName( f ) } (as designed)` : fabricName( f ) ] ), g.fabric );
-	const seconds = select( 'Walk length', WALK_LENGTHS.map( ( s ) => [ String( s ), `${ s } seconds` ] ), '4' );
+	const seconds = select( 'Walk length', WALK_LENGTHS.map( ( s ) => [ String( s ), `${ s } second${ s === 1 ? '' : 's' }` ] ), '4' );
 	const preset = select( 'Quality', PRESETS.map( ( [ v, name, hint ] ) => [ v, `${ name } — ${ hint }` ] ), 'balanced' );
 	const formError = h( 'div', { class: 'form-error', 'aria-live': 'assertive' } );
 	const submit = h( 'button', { type: 'submit', class: 'button button--primary button--wide' }, 'Try it on' );

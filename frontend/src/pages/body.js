@@ -34,13 +34,7 @@ export function render( root, route, ctx ) {
 async function start( b, message = null ) {
 
 	const { page, ctx } = b;
-	if ( b.viewer ) {
-
-		b.viewer.dispose();
-		b.viewer = null;
-
-	}
-
+	dropViewer( b );
 	const id = getBodyId();
 	if ( ! id ) {
 
@@ -73,11 +67,24 @@ async function start( b, message = null ) {
 
 }
 
+/** The 3D view shown (if any) stopped and let go: its render loop and WebGL context with it. */
+function dropViewer( b ) {
+
+	if ( b.viewer ) {
+
+		b.viewer.dispose();
+		b.viewer = null;
+
+	}
+
+}
+
 // --- setting a body up ------------------------------------------------------------------------
 
 function showSetup( b, message = null ) {
 
 	const { page, ctx } = b;
+	dropViewer( b );
 	clear( page );
 	const previous = getBodyId();
 	const onBody = ( body ) => {
@@ -109,6 +116,7 @@ function showSetup( b, message = null ) {
 function showBodyPage( b, body, fresh = false ) {
 
 	const { page, ctx } = b;
+	dropViewer( b );
 	clear( page );
 	const view = createBodyView( body, ctx, { onViewer: ( v ) => ( b.viewer = v ), onRetry: () => start( b ) } );
 	const sizes = createSizesPanel( body, ctx );
