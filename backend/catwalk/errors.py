@@ -3,6 +3,7 @@
 - :class:`InputError`: the user's fault — a bad file, an unknown size, a parameter out of range.
   The message names the input or parameter (never a CLI flag); ``field`` names the parameter
   when there is one. The CLI exits 2; the service answers HTTP 4xx.
+  :class:`NotFound` is the input error of an id that names nothing (HTTP 404).
 - :class:`SimulationError`: the simulation failed on good input — the dressing did not
   converge, the cloth exploded. The CLI exits 3; the service marks the job failed with the
   message as its reason.
@@ -24,6 +25,13 @@ class InputError(CatwalkError):
     def __init__(self, message: str, field: str | None = None):
         super().__init__(message)
         self.field = field
+
+
+class NotFound(InputError):
+    """An id that names nothing (a body, a try-on, a garment): the service answers 404."""
+
+    def __init__(self, what: str, ident: str, field: str | None = None):
+        super().__init__(f"no {what} with id {str(ident)[:80]!r}", field)
 
 
 class SimulationError(CatwalkError):

@@ -23,7 +23,7 @@ from catwalk.config import Config, get_config
 from catwalk.service.api import errors
 from catwalk.service.api.errors import ApiError, UploadTooLarge
 from catwalk.service.api.routes import bodies, garments, health, merchant, tryons
-from catwalk.service.bodies import BodyMaker
+from catwalk.service.body_maker import BodyMaker
 from catwalk.service.catalogue import Catalogue
 from catwalk.service.jobs.recovery import Recovery
 from catwalk.service.metrics import Metrics

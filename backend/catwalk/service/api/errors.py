@@ -19,7 +19,7 @@ from sqlalchemy.exc import DBAPIError, InterfaceError, OperationalError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
-from catwalk.errors import InputError
+from catwalk.errors import InputError, NotFound
 
 log = logging.getLogger("catwalk.api")
 
@@ -43,7 +43,7 @@ class ApiError(Exception):
 
 
 def not_found(what: str, ident: str, field: str | None = None) -> ApiError:
-    return ApiError(404, f"no {what} with id {ident[:80]!r}", field)
+    return ApiError(404, str(NotFound(what, ident)), field)
 
 
 _ID = re.compile(r"[A-Za-z0-9_-]{8,64}")
@@ -113,7 +113,8 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(InputError)
     async def _input_error(request: Request, exc: InputError):
-        return _json(422, error_body(422, str(exc), exc.field))
+        status = 404 if isinstance(exc, NotFound) else 422
+        return _json(status, error_body(status, str(exc), exc.field))
 
     @app.exception_handler(RequestValidationError)
     async def _invalid(request: Request, exc: RequestValidationError):

@@ -19,13 +19,12 @@ from pydantic import ValidationError
 from catwalk.config import Config
 from catwalk.errors import InputError
 from catwalk.exchange.scan import sniff_format
-from catwalk.service import keys
+from catwalk.service import bodies
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, UploadTooLarge, check_id, not_found
 from catwalk.service.api.files import file_response
-from catwalk.service.bodies import make_from_measurements, make_from_scan
+from catwalk.service.body_maker import make_from_measurements, make_from_scan
 from catwalk.service.jobs import lifecycle as jobs
-from catwalk.service.store import db
 from catwalk.service.store.models import BodyRow
 
 router = APIRouter(prefix="/api/bodies", tags=["bodies"])
@@ -44,23 +43,9 @@ _BODY_REQUEST = {
                            "sex": {"type": "string", "enum": ["female", "male"]}}}}}}}
 
 
-def body_view(row: BodyRow) -> dict:
-    """A body as the API shows it; what a scan told (units, axes, size) for a scan's."""
-    m = row.measurements or {}
-    out = {"id": row.id, "source": row.source, "fit": row.fit, "sex": row.sex,
-           "sex_inferred": bool(m.get("_sex_inferred", False)),
-           "measurements": {k: v for k, v in m.items() if not k.startswith("_")},
-           "model_measurements": row.model_measurements or {},
-           "body_url": f"/api/bodies/{row.id}/body.glb"}
-    if row.source == "scan":
-        out["scan"] = m.get("_scan")
-    return out
-
-
 def _get_row(config: Config, body_id: str) -> BodyRow:
     check_id(body_id, "body", "body_id")
-    with db.session(config) as s:
-        row = s.get(BodyRow, body_id)
+    row = bodies.get(config, body_id)
     if row is None:
         raise not_found("body", body_id, "body_id")
     return row
@@ -126,27 +111,18 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
             values = {k: getattr(m, k) for k in ("height", "bust", "waist", "hips")}
             made = await maker.run(make_from_measurements, str(out), m.sex, values,
                                    timeout=config.body_timeout_s)
-            row = BodyRow(id=body_id, source="measurements", fit="measurements", sex=m.sex,
-                          content_key=keys.measurements_key(m.sex, values),
-                          measurements=values, model_measurements=made["model_measurements"])
+            row = bodies.from_measurements(body_id, m.sex, values, made)
         elif ctype == "multipart/form-data":
             data, fmt, sex = await _scan(request)
             scan_path = await asyncio.to_thread(storage.write, storage.scan_path(body_id, fmt),
                                                 data)
             made = await maker.run(make_from_scan, str(scan_path), str(out), sex,
                                    timeout=config.body_timeout_s)
-            # keyed by the sex the body was made with, told or inferred alike
-            content_key = await asyncio.to_thread(keys.scan_key, data, made["sex"])
-            row = BodyRow(id=body_id, source="scan", fit="surface", sex=made["sex"],
-                          content_key=content_key, scan_format=fmt,
-                          measurements={**made["measurements"],
-                                        "_sex_inferred": made["sex_inferred"],
-                                        "_scan": made["scan"]},
-                          model_measurements=made["model_measurements"])
+            row = await asyncio.to_thread(bodies.from_scan, body_id, data, fmt, made)
         else:
             raise ApiError(415, "send measurements as application/json or a scan as "
                                 "multipart/form-data (a file part named 'scan')")
-        await asyncio.to_thread(_insert, config, row)
+        await asyncio.to_thread(bodies.add, config, row)
     except InputError as exc:
         storage.remove_body(body_id)
         if ctype.startswith("multipart"):
@@ -169,18 +145,13 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
     # the body's id and how it went only: measurements and scans are never logged
     log.info(json.dumps({"event": "body_created", "body": body_id, "source": row.source,
                          "seconds": round(time.perf_counter() - t0, 2)}))
-    return body_view(row)
-
-
-def _insert(config: Config, row: BodyRow) -> None:
-    with db.session(config) as s:
-        s.add(row)
+    return bodies.view(row)
 
 
 @router.get("/{body_id}", response_model=schemas.Body, responses=schemas.errors(404, 503),
             response_model_exclude_none=True)
 def get_body(body_id: schemas.BodyId, config: Config = Depends(deps.config)) -> dict:
-    return body_view(_get_row(config, body_id))
+    return bodies.view(_get_row(config, body_id))
 
 
 @router.get("/{body_id}/body.glb", response_class=Response,
@@ -207,13 +178,5 @@ def delete_body(body_id: schemas.BodyId, config: Config = Depends(deps.config),
     """Delete the body, its scan, every try-on made from it and their results (those no
     other body shares). A running try-on of it stops."""
     _get_row(config, body_id)
-    storage.remove_body(body_id)   # the files first: a crash half-way leaves a row to delete
-    orphaned = jobs.delete_for_body(config, body_id)   # again, not a scan without a row
-    for key in orphaned:
-        storage.remove_result(key)
-    with db.session(config) as s:
-        row = s.get(BodyRow, body_id)
-        if row is not None:
-            s.delete(row)
-    log.info(json.dumps({"event": "body_deleted", "body": body_id, "results": len(orphaned)}))
+    bodies.delete(config, storage, body_id)
     return Response(status_code=204)

@@ -11,12 +11,11 @@ from fastapi.responses import Response
 from catwalk.catalogue.bodies import load_recipes
 from catwalk.errors import InputError
 from catwalk.render.pattern import pattern_png
+from catwalk.service import bodies
 from catwalk.service.api import deps, schemas
 from catwalk.service.api.errors import ApiError, check_id, not_found
 from catwalk.service.api.files import PUBLIC_IMMUTABLE, file_response, not_modified
 from catwalk.service.sizes import advise
-from catwalk.service.store import db
-from catwalk.service.store.models import BodyRow
 
 router = APIRouter(prefix="/api/garments", tags=["garments"])
 
@@ -131,8 +130,7 @@ def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
     girths, the ease (chart − body, metres), whether it fits, and the size recommended."""
     entry = _entry(catalogue, garment_id)
     check_id(body_id, "body", "body_id")
-    with db.session(config) as s:
-        body = s.get(BodyRow, body_id)
+    body = bodies.get(config, body_id)
     if body is None:
         raise not_found("body", body_id, "body_id")
     girths = {k: v for k, v in (body.measurements or {}).items() if not k.startswith("_")}
