@@ -163,8 +163,7 @@ def _limb_parts_of_cuffs(panels: list[Panel], seams: list[Seam]) -> None:
                 break
 
 
-def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: str | None = None,
-                           size: str = "M", where: str = "spec") -> Garment:
+def _check_names(name: str, garment_type: str | None, size: str) -> None:
     if garment_type is not None and (not isinstance(garment_type, str)
                                      or garment_type not in GARMENT_TYPES):
         raise InputError(f"garment type {garment_type!r} is not one of "
@@ -174,6 +173,10 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
                          "spaces (e.g. M)", "size")
     if not isinstance(name, str) or not name.strip():
         raise InputError(f"name {name!r}: a garment needs a name", "name")
+
+
+def _pattern(spec: dict, where: str) -> tuple[dict, list, float, list[str]]:
+    """The specification's panels, stitches, scale to metres and panel order, checked."""
     pattern = spec.get("pattern") if isinstance(spec, dict) else None
     if not isinstance(pattern, dict) or "panels" not in pattern:
         raise InputError(f"{where}: not a GarmentCode specification (no pattern.panels)")
@@ -200,118 +203,138 @@ def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: 
             or not math.isfinite(units) or units <= 0:
         raise InputError(f"{where}: properties.units_in_meter must be a positive number (100: "
                          f"the pattern is in centimetres), got {units!r}")
-    scale = 1.0 / units
     order = pattern.get("panel_order") or list(raw_panels)
     if not isinstance(order, list) or not all(isinstance(p, str) and p in raw_panels
                                               for p in order) or len(set(order)) != len(order):
         raise InputError(f"{where}: pattern.panel_order must list the panels' names, each once")
     order += [p for p in raw_panels if p not in order]
+    return raw_panels, stitches, 1.0 / units, order
+
+
+def _edge_ends(edges: list, n_verts: int, w: str) -> list:
+    """Each edge's two vertex numbers, checked to form one loop."""
+    if len(edges) < 3:
+        raise InputError(f"{w}: needs at least 3 edges, has {len(edges)}")
+    if len(edges) > MAX_EDGES:
+        raise InputError(f"{w}: {len(edges):,} edges; at most {MAX_EDGES} are read")
+    ends = []
+    for k, e in enumerate(edges):
+        ep = e.get("endpoints") if isinstance(e, dict) else None
+        if not isinstance(ep, list) or len(ep) != 2 or not all(
+                isinstance(x, int) and not isinstance(x, bool) and 0 <= x < n_verts
+                for x in ep):
+            raise InputError(f"{w}, edge {k}: endpoints must be two vertex numbers "
+                             f"0…{n_verts - 1}, got {ep!r:.60}")
+        ends.append(ep)
+    for k in range(len(edges)):
+        j, nxt = ends[k][1], ends[(k + 1) % len(edges)][0]
+        if j != nxt:
+            raise InputError(f"{w}, edge {k}: ends at vertex {j} but edge "
+                             f"{(k + 1) % len(edges)} starts at vertex {nxt} (the edges do "
+                             f"not form a loop)")
+    return ends
+
+
+def _panel(pname: str, rp, scale: float, size: str, where: str):
+    """A panel of the specification: (the :class:`Panel`, its placement (rotation,
+    translation) in the specification's world)."""
+    w = f"{where}: panel {pname!r}"
+    if not isinstance(rp, dict) or not isinstance(rp.get("vertices"), list) \
+            or not isinstance(rp.get("edges"), list):
+        raise InputError(f"{w}: needs vertices and edges")
+    verts = _near(np.array([_numbers(v, 2, f"{w}, vertex {k}")
+                            for k, v in enumerate(rp["vertices"])],
+                           dtype=float).reshape(-1, 2) * scale, f"{w}: a vertex")
+    edges = rp["edges"]
+    ends = _edge_ends(edges, len(verts), w)
+    segs = [_segment(verts[i], verts[j], e.get("curvature"), f"{w}, edge {k}")
+            for k, (e, (i, j)) in enumerate(zip(edges, ends, strict=True))]
+    rot = euler_xyz(_numbers(rp.get("rotation", [0, 0, 0]), 3, f"{w}: rotation"))
+    trans = _near(np.asarray(_numbers(rp.get("translation", [0, 0, 0]), 3,
+                                      f"{w}: translation")) * scale, f"{w}: translation")
+    centre = rot @ np.append(verts.mean(axis=0), 0.0) + trans
+    ptype = _panel_type(pname, rp.get("label"))
+    pl = _hints(pname, ptype, centre)
+    pl.transform = {"rotation": [[round(float(v), 9) for v in row] for row in rot],
+                    "translation": [round(float(v), 6) for v in trans],
+                    "reference": "GarmentCode average body (SMPL, metres)"}
+    labels = {k: str(e["label"])[:200] for k, e in enumerate(edges) if e.get("label")}
+    label = rp.get("label")
+    panel = Panel(pname, ptype, {size: Shape(segs, np.array([[0.0, 0.0], [0.0, 1.0]]),
+                                             labels=labels)},
+                  placement=pl, meta={"garmentcode_label": label if isinstance(
+                      label, (str, int, float, type(None))) else str(label)[:200]})
+    return panel, (rot, trans)
+
+
+def _seam(i: int, st, panels: dict, world: dict, size: str, where: str) -> Seam:
+    """Stitch ``i`` as a seam (a dart within one panel), its direction from where its edges
+    lie in the specification's world; the longer side of a mismatched stitch gathered or
+    eased, as GarmentCode does."""
+    if not isinstance(st, list) or len(st) < 2 or not all(
+            isinstance(x, dict) and isinstance(x.get("panel"), str)
+            and isinstance(x.get("edge"), int) and not isinstance(x.get("edge"), bool)
+            for x in st[:2]):
+        raise InputError(f"{where}: stitch {i} is not a pair of {{panel, edge}}")
+    (a, b) = st[:2]
+    pa, ea, pb, eb = a["panel"], a["edge"], b["panel"], b["edge"]
+    sides = []
+    ends3d = []
+    for p, e in ((pa, ea), (pb, eb)):
+        if p not in panels:
+            raise InputError(f"{where}: stitch {i} names no panel {p!r}")
+        outline = panels[p].shapes[size].outline
+        n = len(outline)
+        if not 0 <= e < n:
+            raise InputError(f"{where}: stitch {i}: panel {p!r} has no edge {e}")
+        sides.append(SeamSide(p, e, (e + 1) % n))
+        rot, trans = world[p]
+        v0, v1 = outline[e].start, outline[(e + 1) % n].start
+        ends3d.append([rot @ np.append(v, 0.0) + trans for v in (v0, v1)])
+    (a0, a1), (b0, b1) = ends3d
+    same = np.linalg.norm(a0 - b0) + np.linalg.norm(a1 - b1)
+    cross = np.linalg.norm(a0 - b1) + np.linalg.norm(a1 - b0)
+    kind = "dart" if pa == pb else "seam"
+    seam = Seam(sides[0], sides[1], bool(cross < same), f"{pa}:{ea}-{pb}:{eb}", kind)
+    la, lb = (run_length(segment_lengths(panels[sd.panel].shapes[size].outline), sd.start,
+                         sd.end) for sd in sides)
+    diff = abs(la - lb) / max(la, lb) if max(la, lb) > 0 else 0.0
+    if diff > 0.02:
+        seam.ease = min(0.99, math.ceil(diff * 100.0 + 1.0) / 100.0)
+        seam.kind = "gather" if diff > 0.1 else "eased"
+    return seam
+
+
+def _garment_type(panels: list[Panel]) -> str:
+    """The garment's type from its panels' types."""
+    types = {p.type for p in panels}
+    if "skirt" in types and types & {"front", "back"}:
+        return "dress"
+    if "skirt" in types:
+        return "skirt"
+    if "leg" in types and types & {"front", "back"}:
+        return "jumpsuit"
+    if "sleeve" in types:
+        return "shirt"
+    if "leg" in types:
+        return "trousers"
+    return "top"
+
+
+def garmentcode_to_garment(spec: dict, name: str = "garmentcode", garment_type: str | None = None,
+                           size: str = "M", where: str = "spec") -> Garment:
+    _check_names(name, garment_type, size)
+    raw_panels, stitches, scale, order = _pattern(spec, where)
     panels: list[Panel] = []
     world: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-    edge_vertex: dict[str, list[int]] = {}
     for pname in order:
-        rp = raw_panels[pname]
-        w = f"{where}: panel {pname!r}"
-        if not isinstance(rp, dict) or not isinstance(rp.get("vertices"), list) \
-                or not isinstance(rp.get("edges"), list):
-            raise InputError(f"{w}: needs vertices and edges")
-        verts = _near(np.array([_numbers(v, 2, f"{w}, vertex {k}")
-                                for k, v in enumerate(rp["vertices"])],
-                               dtype=float).reshape(-1, 2) * scale, f"{w}: a vertex")
-        edges = rp["edges"]
-        if len(edges) < 3:
-            raise InputError(f"{w}: needs at least 3 edges, has {len(edges)}")
-        if len(edges) > MAX_EDGES:
-            raise InputError(f"{w}: {len(edges):,} edges; at most {MAX_EDGES} are read")
-        ends = []
-        for k, e in enumerate(edges):
-            ep = e.get("endpoints") if isinstance(e, dict) else None
-            if not isinstance(ep, list) or len(ep) != 2 or not all(
-                    isinstance(x, int) and not isinstance(x, bool) and 0 <= x < len(verts)
-                    for x in ep):
-                raise InputError(f"{w}, edge {k}: endpoints must be two vertex numbers "
-                                 f"0…{len(verts) - 1}, got {ep!r:.60}")
-            ends.append(ep)
-        segs = []
-        starts = []
-        for k, e in enumerate(edges):
-            i, j = ends[k]
-            nxt = ends[(k + 1) % len(edges)][0]
-            if j != nxt:
-                raise InputError(f"{w}, edge {k}: ends at vertex {j} but edge "
-                                 f"{(k + 1) % len(edges)} starts at vertex {nxt} (the edges do "
-                                 f"not form a loop)")
-            segs.append(_segment(verts[i], verts[j], e.get("curvature"), f"{w}, edge {k}"))
-            starts.append(i)
-        edge_vertex[pname] = starts
-        rot = euler_xyz(_numbers(rp.get("rotation", [0, 0, 0]), 3, f"{w}: rotation"))
-        trans = _near(np.asarray(_numbers(rp.get("translation", [0, 0, 0]), 3,
-                                          f"{w}: translation")) * scale, f"{w}: translation")
-        world[pname] = (rot, trans)
-        centre = rot @ np.append(verts.mean(axis=0), 0.0) + trans
-        ptype = _panel_type(pname, rp.get("label"))
-        pl = _hints(pname, ptype, centre)
-        pl.transform = {"rotation": [[round(float(v), 9) for v in row] for row in rot],
-                        "translation": [round(float(v), 6) for v in trans],
-                        "reference": "GarmentCode average body (SMPL, metres)"}
-        labels = {k: str(e["label"])[:200] for k, e in enumerate(edges) if e.get("label")}
-        label = rp.get("label")
-        panels.append(Panel(pname, ptype, {size: Shape(segs, np.array([[0.0, 0.0], [0.0, 1.0]]),
-                                                       labels=labels)},
-                            placement=pl, meta={"garmentcode_label": label if isinstance(
-                                label, (str, int, float, type(None))) else str(label)[:200]}))
-    seams = []
-    for i, st in enumerate(stitches):
-        if not isinstance(st, list) or len(st) < 2 or not all(
-                isinstance(x, dict) and isinstance(x.get("panel"), str)
-                and isinstance(x.get("edge"), int) and not isinstance(x.get("edge"), bool)
-                for x in st[:2]):
-            raise InputError(f"{where}: stitch {i} is not a pair of {{panel, edge}}")
-        (a, b) = st[:2]
-        pa, ea, pb, eb = a["panel"], a["edge"], b["panel"], b["edge"]
-        sides = []
-        ends3d = []
-        for p, e in ((pa, ea), (pb, eb)):
-            if p not in raw_panels:
-                raise InputError(f"{where}: stitch {i} names no panel {p!r}")
-            n = len(edge_vertex[p])
-            if not 0 <= e < n:
-                raise InputError(f"{where}: stitch {i}: panel {p!r} has no edge {e}")
-            sides.append(SeamSide(p, e, (e + 1) % n))
-            rot, trans = world[p]
-            shape = next(q for q in panels if q.name == p).shapes[size]
-            v0, v1 = shape.outline[e].start, shape.outline[(e + 1) % n].start
-            ends3d.append([rot @ np.append(v, 0.0) + trans for v in (v0, v1)])
-        (a0, a1), (b0, b1) = ends3d
-        same = np.linalg.norm(a0 - b0) + np.linalg.norm(a1 - b1)
-        cross = np.linalg.norm(a0 - b1) + np.linalg.norm(a1 - b0)
-        kind = "dart" if pa == pb else "seam"
-        seam = Seam(sides[0], sides[1], bool(cross < same), f"{pa}:{ea}-{pb}:{eb}", kind)
-        # GarmentCode gathers (or eases) the longer side of a mismatched stitch: declare it
-        la, lb = (run_length(segment_lengths(next(q for q in panels if q.name == sd.panel)
-                                             .shapes[size].outline), sd.start, sd.end)
-                  for sd in sides)
-        diff = abs(la - lb) / max(la, lb) if max(la, lb) > 0 else 0.0
-        if diff > 0.02:
-            seam.ease = min(0.99, math.ceil(diff * 100.0 + 1.0) / 100.0)
-            seam.kind = "gather" if diff > 0.1 else "eased"
-        seams.append(seam)
+        panel, world[pname] = _panel(pname, raw_panels[pname], scale, size, where)
+        panels.append(panel)
+    by_name = {p.name: p for p in panels}
+    seams = [_seam(i, st, by_name, world, size, where) for i, st in enumerate(stitches)]
     _limb_parts_of_cuffs(panels, seams)
-    if garment_type is None:
-        types = {p.type for p in panels}
-        if "skirt" in types and types & {"front", "back"}:
-            garment_type = "dress"
-        elif "skirt" in types:
-            garment_type = "skirt"
-        elif "leg" in types and types & {"front", "back"}:
-            garment_type = "jumpsuit"
-        elif "sleeve" in types:
-            garment_type = "shirt"
-        elif "leg" in types:
-            garment_type = "trousers"
-        else:
-            garment_type = "top"
-    return Garment(name, garment_type, [size], panels, seams, "cotton-jersey", size,
+    return Garment(name, garment_type or _garment_type(panels), [size], panels, seams,
+                   "cotton-jersey", size,
                    source={"garmentcode": where, "licence": "MIT (c) 2024 Maria Korosteleva",
                            "converter": "catwalk garment from-garmentcode"})
 
