@@ -42,7 +42,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.spatial import Delaunay
@@ -218,19 +218,8 @@ def _seam_runs(seams, outlines):
     return runs
 
 
-def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cotton-jersey",
-                h: float = DEFAULT_H) -> ClothModel:
-    """Build a cloth from panels and seams (see the module docstring)."""
-    fab: Fabric = get_fabric(fabric)
-    if not (isinstance(h, (int, float)) and math.isfinite(h) and h > 0):
-        raise InputError(f"grid spacing h must be a positive number of metres, got {h!r}")
-    outlines = _check_panels(panels)
-    total_area = sum(abs(_polygon_area(o)) for o in outlines)
-    if total_area / (h * h) > MAX_POINTS:
-        raise InputError(f"h = {h} m would make ~{int(total_area / h / h)} points "
-                           f"(limit {MAX_POINTS}); use a larger h")
-    runs = _seam_runs(seams, outlines)
-    # shared interval counts per seam
+def _seam_intervals(seams, runs, outlines, h: float) -> dict:
+    """Each seam's interval count, shared by its two runs (the longer run at spacing ≤ h)."""
     lengths = {}
     for p, a, b, si, side in runs:
         path = _run(outlines[p], a, b)
@@ -240,112 +229,137 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     for si in range(len(seams)):
         if min(lengths[(si, 0)], lengths[(si, 1)]) <= 0:
             raise InputError(f"seam {si}: a seam run has zero length")
+    return seam_n
 
-    uv_all, pan_all, bnd_all = [], [], []
-    grid_ij_all = []  # per panel: (point index, i, j) for grid points
-    outline_seq = []  # per panel: global indices of the outline points, in order
-    seam_pts = {}  # (si, side) -> global indices along the run, both ends included
-    tri_all = []
-    base = 0
-    for pi, o in enumerate(outlines):
-        n = len(o)
-        owner = -np.ones(n, dtype=np.int64)  # edge k = (k, k+1) belongs to run index
-        my_runs = [r for r in runs if r[0] == pi]
-        for ri, (_, a, b, _si, _side) in enumerate(my_runs):
-            k = a
-            while k != b:
-                if owner[k] >= 0:
-                    raise InputError(f"panel {pi}: seam runs overlap at outline edge {k}")
-                owner[k] = ri
-                k = (k + 1) % n
-        # walk the outline from a run start (or vertex 0)
-        start = my_runs[0][1] if my_runs else 0
-        pts, run_first = [], {}
-        k = start
-        walked = 0
-        while walked < n:
-            ri = owner[k]
-            if ri >= 0:
-                _, a, b, si, side = my_runs[ri]
-                path = _run(o, a, b)
-                run_first[ri] = len(pts)
-                pts.extend(_sample(path, seam_n[si]))
-                steps = (b - a) % n
-                k = b
-                walked += steps
-            else:
-                path = o[[k, (k + 1) % n]]
-                length = float(np.linalg.norm(path[1] - path[0]))
-                if length > 1e-12:
-                    pts.extend(_sample(path, max(1, math.ceil(length / h - 1e-9))))
-                k = (k + 1) % n
-                walked += 1
-        b_uv = np.asarray(pts)
-        nb = len(b_uv)
-        for ri, (_, _a, _b, si, side) in enumerate(my_runs):
-            first = run_first[ri]
-            idx = (first + np.arange(seam_n[si] + 1)) % nb
-            seam_pts[(si, side)] = base + idx
-        # interior grid
-        lo = o.min(axis=0)
-        hi = o.max(axis=0)
-        ni = int(math.floor((hi[0] - lo[0]) / h + 1e-9)) + 1
-        nj = int(math.floor((hi[1] - lo[1]) / h + 1e-9)) + 1
-        ii, jj = np.meshgrid(np.arange(ni), np.arange(nj))  # row-major: j outer
-        ii, jj = ii.ravel(), jj.ravel()
-        g_uv = lo + h * np.column_stack([ii, jj]).astype(np.float64)
-        keep = _inside(o, g_uv)
-        keep[keep] = _distance_to_outline(o, g_uv[keep]) >= _CLEARANCE * h
-        g_uv, ii, jj = g_uv[keep], ii[keep], jj[keep]
-        panel_uv = np.vstack([b_uv, g_uv])
-        # triangulate the panel's points
-        tri = Delaunay(panel_uv).simplices
-        c = panel_uv[tri].mean(axis=1)
-        e1 = panel_uv[tri[:, 1]] - panel_uv[tri[:, 0]]
-        e2 = panel_uv[tri[:, 2]] - panel_uv[tri[:, 0]]
-        area = 0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-        ok = _inside(o, c) & (np.abs(area) > 1e-6 * h * h)
-        tri = tri[ok]
-        flip = area[ok] < 0  # counter-clockwise in the pattern plane
-        tri[flip] = tri[flip][:, [0, 2, 1]]
-        used = np.zeros(len(panel_uv), dtype=bool)
-        used[tri.ravel()] = True
-        if not used[:nb].all():
-            raise InputError(f"panel {pi} ({panels[pi].name}): outline too fine for h = {h} "
-                               "(an outline point is in no triangle); smooth the outline or "
-                               "use a smaller h")
-        uv_all.append(panel_uv)
-        pan_all.append(np.full(len(panel_uv), pi, dtype=np.int32))
-        bnd = np.zeros(len(panel_uv), dtype=bool)
-        bnd[:nb] = True
-        bnd_all.append(bnd)
-        # outline points that sit on grid nodes join the grid (an aligned rectangle becomes
-        # exactly Provot's grid)
-        fb = (b_uv - lo) / h
-        rb = np.rint(fb)
-        on = np.all(np.abs(fb - rb) < 1e-7, axis=1)
-        on &= (rb[:, 0] >= 0) & (rb[:, 0] < ni) & (rb[:, 1] >= 0) & (rb[:, 1] < nj)
-        gidx = np.concatenate([base + np.where(on)[0], base + nb + np.arange(len(g_uv))])
-        gi = np.concatenate([rb[on, 0].astype(np.int64), ii])
-        gj = np.concatenate([rb[on, 1].astype(np.int64), jj])
-        grid_ij_all.append((gidx, gi, gj, ni, nj))
-        outline_seq.append(base + np.arange(nb))
-        tri_all.append(tri + base)
-        base += len(panel_uv)
 
-    uv = np.vstack(uv_all)
-    npts = len(uv)
-    panel_of = np.concatenate(pan_all)
-    boundary = np.concatenate(bnd_all)
-    triangles = np.vstack(tri_all).astype(np.int32)
+def _outline_points(pi: int, o: np.ndarray, my_runs: list, seam_n: dict, h: float):
+    """The panel's outline points (the seam runs at their seams' intervals, the other edges
+    at spacing ≤ h), walked from a run's start (or vertex 0); and where each run's first
+    point is among them."""
+    n = len(o)
+    owner = -np.ones(n, dtype=np.int64)  # edge k = (k, k+1) belongs to run index
+    for ri, (_, a, b, _si, _side) in enumerate(my_runs):
+        k = a
+        while k != b:
+            if owner[k] >= 0:
+                raise InputError(f"panel {pi}: seam runs overlap at outline edge {k}")
+            owner[k] = ri
+            k = (k + 1) % n
+    start = my_runs[0][1] if my_runs else 0
+    pts, run_first = [], {}
+    k = start
+    walked = 0
+    while walked < n:
+        ri = owner[k]
+        if ri >= 0:
+            _, a, b, si, side = my_runs[ri]
+            path = _run(o, a, b)
+            run_first[ri] = len(pts)
+            pts.extend(_sample(path, seam_n[si]))
+            steps = (b - a) % n
+            k = b
+            walked += steps
+        else:
+            path = o[[k, (k + 1) % n]]
+            length = float(np.linalg.norm(path[1] - path[0]))
+            if length > 1e-12:
+                pts.extend(_sample(path, max(1, math.ceil(length / h - 1e-9))))
+            k = (k + 1) % n
+            walked += 1
+    return np.asarray(pts), run_first
 
-    # --- springs ---
-    pairs = []  # (a, b, kind) in the order of the data structure
-    for gidx, ii, jj, ni, nj in grid_ij_all:
+
+def _interior_grid(o: np.ndarray, h: float):
+    """Provot's grid inside the outline, off it by at least _CLEARANCE·h: (uv, i, j, ni, nj,
+    the grid's origin)."""
+    lo = o.min(axis=0)
+    hi = o.max(axis=0)
+    ni = int(math.floor((hi[0] - lo[0]) / h + 1e-9)) + 1
+    nj = int(math.floor((hi[1] - lo[1]) / h + 1e-9)) + 1
+    ii, jj = np.meshgrid(np.arange(ni), np.arange(nj))  # row-major: j outer
+    ii, jj = ii.ravel(), jj.ravel()
+    g_uv = lo + h * np.column_stack([ii, jj]).astype(np.float64)
+    keep = _inside(o, g_uv)
+    keep[keep] = _distance_to_outline(o, g_uv[keep]) >= _CLEARANCE * h
+    return g_uv[keep], ii[keep], jj[keep], ni, nj, lo
+
+
+def _triangulate(panel_uv: np.ndarray, o: np.ndarray, h: float) -> np.ndarray:
+    """The panel's points triangulated (Delaunay), the triangles inside the outline and not
+    degenerate, counter-clockwise in the pattern plane."""
+    tri = Delaunay(panel_uv).simplices
+    c = panel_uv[tri].mean(axis=1)
+    e1 = panel_uv[tri[:, 1]] - panel_uv[tri[:, 0]]
+    e2 = panel_uv[tri[:, 2]] - panel_uv[tri[:, 0]]
+    area = 0.5 * (e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+    ok = _inside(o, c) & (np.abs(area) > 1e-6 * h * h)
+    tri = tri[ok]
+    flip = area[ok] < 0
+    tri[flip] = tri[flip][:, [0, 2, 1]]
+    return tri
+
+
+@dataclass
+class _Points:
+    """Every panel's points as they are made (the panels' outline points first, then their
+    grids), in global numbering."""
+    uv: list = field(default_factory=list)
+    panel: list = field(default_factory=list)
+    boundary: list = field(default_factory=list)
+    grid: list = field(default_factory=list)      # per panel: (index, i, j, ni, nj)
+    outline: list = field(default_factory=list)   # per panel: its outline's indices, in order
+    seam_pts: dict = field(default_factory=dict)  # (si, side) -> indices along the run
+    triangles: list = field(default_factory=list)
+    count: int = 0
+
+
+def _add_panel(pts: _Points, pi: int, panel: Panel, o: np.ndarray, runs, seam_n, h) -> None:
+    """The panel's points, triangles and grid, appended to ``pts``."""
+    base = pts.count
+    my_runs = [r for r in runs if r[0] == pi]
+    b_uv, run_first = _outline_points(pi, o, my_runs, seam_n, h)
+    nb = len(b_uv)
+    for ri, (_, _a, _b, si, side) in enumerate(my_runs):
+        first = run_first[ri]
+        idx = (first + np.arange(seam_n[si] + 1)) % nb
+        pts.seam_pts[(si, side)] = base + idx
+    g_uv, ii, jj, ni, nj, lo = _interior_grid(o, h)
+    panel_uv = np.vstack([b_uv, g_uv])
+    tri = _triangulate(panel_uv, o, h)
+    used = np.zeros(len(panel_uv), dtype=bool)
+    used[tri.ravel()] = True
+    if not used[:nb].all():
+        raise InputError(f"panel {pi} ({panel.name}): outline too fine for h = {h} "
+                         "(an outline point is in no triangle); smooth the outline or "
+                         "use a smaller h")
+    pts.uv.append(panel_uv)
+    pts.panel.append(np.full(len(panel_uv), pi, dtype=np.int32))
+    bnd = np.zeros(len(panel_uv), dtype=bool)
+    bnd[:nb] = True
+    pts.boundary.append(bnd)
+    # outline points that sit on grid nodes join the grid (an aligned rectangle becomes
+    # exactly Provot's grid)
+    fb = (b_uv - lo) / h
+    rb = np.rint(fb)
+    on = np.all(np.abs(fb - rb) < 1e-7, axis=1)
+    on &= (rb[:, 0] >= 0) & (rb[:, 0] < ni) & (rb[:, 1] >= 0) & (rb[:, 1] < nj)
+    gidx = np.concatenate([base + np.where(on)[0], base + nb + np.arange(len(g_uv))])
+    gi = np.concatenate([rb[on, 0].astype(np.int64), ii])
+    gj = np.concatenate([rb[on, 1].astype(np.int64), jj])
+    pts.grid.append((gidx, gi, gj, ni, nj))
+    pts.outline.append(base + np.arange(nb))
+    pts.triangles.append(tri + base)
+    pts.count = base + len(panel_uv)
+
+
+def _grid_springs(grid, pairs: list) -> None:
+    """Provot's springs between grid points: stretch to the neighbours, shear across the
+    diagonals, bend to the points two apart."""
+    for gidx, ii, jj, ni, nj in grid:
         lut = -np.ones((nj + 2, ni + 2), dtype=np.int64)
         lut[jj, ii] = gidx
-
-        def link(di, dj, kind, lut=lut, gidx=gidx, ii=ii, jj=jj, ni=ni, nj=nj):
+        for di, dj, kind in ((1, 0, STRETCH), (0, 1, STRETCH), (1, 1, SHEAR), (-1, 1, SHEAR),
+                             (2, 0, BEND), (0, 2, BEND)):
             i2, j2 = ii + di, jj + dj
             ok = (i2 >= 0) & (i2 < ni) & (j2 >= 0) & (j2 < nj)
             other = np.full(len(gidx), -1)
@@ -353,13 +367,10 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
             m = other >= 0
             pairs.append((gidx[m], other[m], np.full(int(m.sum()), kind)))
 
-        link(1, 0, STRETCH)
-        link(0, 1, STRETCH)
-        link(1, 1, SHEAR)
-        link(-1, 1, SHEAR)
-        link(2, 0, BEND)
-        link(0, 2, BEND)
-    # triangle edges at outline points: stretch, or shear when the edge runs diagonally
+
+def _outline_springs(uv, triangles, boundary, pairs: list) -> np.ndarray:
+    """Triangle edges at outline points: stretch, or shear where the edge runs diagonally.
+    Returns those edges."""
     e = np.vstack([triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]])
     e = np.sort(e, axis=1)
     e = e[boundary[e[:, 0]] | boundary[e[:, 1]]]
@@ -367,17 +378,21 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     d = uv[e[:, 1]] - uv[e[:, 0]]
     cos2t = (d[:, 0] ** 2 - d[:, 1] ** 2) / np.maximum(np.sum(d * d, axis=1), 1e-300)
     pairs.append((e[:, 0], e[:, 1], np.where(np.abs(cos2t) < 0.5, SHEAR, STRETCH)))
-    # bend for outline points off the grid: to the next-but-one outline point ...
+    return e
+
+
+def _outline_bend_springs(pts: _Points, uv, boundary, e, npts: int, pairs: list) -> None:
+    """Bend springs for outline points off the grid: to the next-but-one outline point, and
+    to the grid point two steps inward."""
     on_grid = np.zeros(npts, dtype=bool)
-    for gidx, *_ in grid_ij_all:
+    for gidx, *_ in pts.grid:
         on_grid[gidx] = True
-    for seq in outline_seq:
+    for seq in pts.outline:
         if len(seq) >= 5:
             nxt = np.roll(seq, -2)
             m = ~(on_grid[seq] & on_grid[nxt])
             pairs.append((seq[m], nxt[m], np.full(int(m.sum()), BEND)))
-    # ... and to the grid point two steps inward
-    for gidx, ii, jj, ni, nj in grid_ij_all:
+    for gidx, ii, jj, ni, nj in pts.grid:
         if len(gidx) == 0:
             continue
         lut = -np.ones((nj, ni), dtype=np.int64)
@@ -400,6 +415,14 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
             m2 = g2 >= 0
             pairs.append((bb[m2], g2[m2], np.full(int(m2.sum()), BEND)))
 
+
+def _springs(pts: _Points, uv, triangles, boundary, npts: int, n_seams: int):
+    """Every spring (a, b, kind), none across a seam's gap, each pair once, the
+    strain-limited ones (stretch, shear) first, each group in data-structure order."""
+    pairs = []  # (a, b, kind) in the order of the data structure
+    _grid_springs(pts.grid, pairs)
+    e = _outline_springs(uv, triangles, boundary, pairs)
+    _outline_bend_springs(pts, uv, boundary, e, npts, pairs)
     sa = np.concatenate([p[0] for p in pairs]).astype(np.int64)
     sb = np.concatenate([p[1] for p in pairs]).astype(np.int64)
     kind = np.concatenate([p[2] for p in pairs]).astype(np.int8)
@@ -408,7 +431,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     # no spring spans a seam's gap (e.g. across a dart, where the next-but-one outline bend
     # spring and thin tip triangles join the two legs): the seam closes that gap
     key = np.minimum(sa, sb) * npts + np.maximum(sa, sb)
-    across = _across_seams(seam_pts, len(seams), npts)
+    across = _across_seams(pts.seam_pts, n_seams, npts)
     if len(across):
         keep = ~np.isin(key, across)
         sa, sb, kind, key = sa[keep], sb[keep], kind[keep], key[keep]
@@ -416,43 +439,33 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
     _, first = np.unique(key, return_index=True)
     first = np.sort(first)
     sa, sb, kind = sa[first], sb[first], kind[first]
-    # strain-limited springs first, each group in data-structure order
     order = np.argsort(kind == BEND, kind="stable")
-    sa, sb, kind = sa[order], sb[order], kind[order]
-    d2 = uv[sb] - uv[sa]
-    rest = np.linalg.norm(d2, axis=1)
-    if np.any(rest < 1e-9):
-        raise InputError("two cloth points coincide in the pattern; check the outlines")
-    k = spring_constants(fab, kind, d2, rest, h)
+    return sa[order], sb[order], kind[order]
 
-    # --- masses ---
+
+def _masses(uv, triangles, fab: Fabric, h: float, sa, sb, k) -> np.ndarray:
+    """The points' masses: each triangle's area in thirds, at least half a cell's area a point
+    (outline points on thin triangles would get tiny masses, and the smallest mass sets the
+    time step), the stiffest points for their mass floored (:func:`_stiffness_floor`), the
+    total the fabric's density × the pattern's area."""
     e1 = uv[triangles[:, 1]] - uv[triangles[:, 0]]
     e2 = uv[triangles[:, 2]] - uv[triangles[:, 0]]
     tarea = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-    mass = np.zeros(npts)
+    mass = np.zeros(len(uv))
     for c in range(3):
         np.add.at(mass, triangles[:, c], tarea / 3.0)
-    # outline points on thin triangles get tiny masses, and the smallest mass sets the time
-    # step: give every point at least half a cell's area (an edge point's), then rescale to the
-    # total
     area = float(tarea.sum())
     mass = np.maximum(mass, _MIN_AREA * h * h)
     mass *= fab.density * area / mass.sum()
-    # the stiffest points for their mass (outline points where many short springs meet) set
-    # the explicit step for all: no point's ω² = Σk/m above _MAX_OMEGA2 × the median point's
-    # (its stable step at least 1/√_MAX_OMEGA2 of the median's), then rescale to the total
+    # no point's ω² = Σk/m above _MAX_OMEGA2 × the median point's (its stable step at least
+    # 1/√_MAX_OMEGA2 of the median's), then rescale to the total
     mass = _stiffness_floor(mass, sa, sb, k)
     mass *= fab.density * area / mass.sum()
-    m_red = mass[sa] * mass[sb] / (mass[sa] + mass[sb])
-    c_damp = 2.0 * fab.damping * np.sqrt(k * m_red)
+    return mass
 
-    # --- placement ---
-    rest_pos = np.empty((npts, 3))
-    for pi, p in enumerate(panels):
-        m = panel_of == pi
-        rest_pos[m] = _place(p, uv[m], pi)
 
-    # --- seams ---
+def _seam_pairs(seams, seam_pts: dict):
+    """The seams' matched point pairs (a, b) and the seam of each."""
     sea, seb, sid = [], [], []
     for si, s in enumerate(seams):
         ia = seam_pts[(si, 0)]
@@ -462,7 +475,46 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
         sea.append(ia)
         seb.append(ib)
         sid.append(np.full(len(ia), si))
+    return _cat(sea), _cat(seb), _cat(sid)
 
+
+def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cotton-jersey",
+                h: float = DEFAULT_H) -> ClothModel:
+    """Build a cloth from panels and seams (see the module docstring)."""
+    fab: Fabric = get_fabric(fabric)
+    if not (isinstance(h, (int, float)) and math.isfinite(h) and h > 0):
+        raise InputError(f"grid spacing h must be a positive number of metres, got {h!r}")
+    outlines = _check_panels(panels)
+    total_area = sum(abs(_polygon_area(o)) for o in outlines)
+    if total_area / (h * h) > MAX_POINTS:
+        raise InputError(f"h = {h} m would make ~{int(total_area / h / h)} points "
+                         f"(limit {MAX_POINTS}); use a larger h")
+    runs = _seam_runs(seams, outlines)
+    seam_n = _seam_intervals(seams, runs, outlines, h)
+    pts = _Points()
+    for pi, o in enumerate(outlines):
+        _add_panel(pts, pi, panels[pi], o, runs, seam_n, h)
+    uv = np.vstack(pts.uv)
+    npts = len(uv)
+    panel_of = np.concatenate(pts.panel)
+    boundary = np.concatenate(pts.boundary)
+    triangles = np.vstack(pts.triangles).astype(np.int32)
+
+    sa, sb, kind = _springs(pts, uv, triangles, boundary, npts, len(seams))
+    d2 = uv[sb] - uv[sa]
+    rest = np.linalg.norm(d2, axis=1)
+    if np.any(rest < 1e-9):
+        raise InputError("two cloth points coincide in the pattern; check the outlines")
+    k = spring_constants(fab, kind, d2, rest, h)
+    mass = _masses(uv, triangles, fab, h, sa, sb, k)
+    m_red = mass[sa] * mass[sb] / (mass[sa] + mass[sb])
+    c_damp = 2.0 * fab.damping * np.sqrt(k * m_red)
+
+    rest_pos = np.empty((npts, 3))
+    for pi, p in enumerate(panels):
+        m = panel_of == pi
+        rest_pos[m] = _place(p, uv[m], pi)
+    seam_a, seam_b, seam_id = _seam_pairs(seams, pts.seam_pts)
     n_lim = int(np.sum(kind != BEND))
     adj_ptr, adj_spring, adj_other = adjacency(npts, sa[:n_lim], sb[:n_lim])
     return ClothModel(
@@ -470,7 +522,7 @@ def build_cloth(panels: Sequence[Panel], seams: Sequence[Seam] = (), fabric="cot
         boundary=boundary, spring_a=sa.astype(np.int32), spring_b=sb.astype(np.int32),
         spring_rest=rest, spring_k=k, spring_c=c_damp, spring_kind=kind, n_limited=n_lim,
         adj_ptr=adj_ptr, adj_spring=adj_spring, adj_other=adj_other, triangles=triangles,
-        seam_a=_cat(sea), seam_b=_cat(seb), seam_id=_cat(sid),
+        seam_a=seam_a, seam_b=seam_b, seam_id=seam_id,
         panel_names=[p.name for p in panels])
 
 

@@ -318,13 +318,17 @@ class Solver:
 
     def _xpbd(self, model, state, w_int, w_lim, h, nsteps, limit: bool) -> int:
         """XPBD steps (``limit``: the strain limit as hard constraints in the same sweeps)."""
-        return xpbd_kernels.run_steps_xpbd(
-            state.positions, state.velocities, self._xprev, self._p, self._lam, model.mass,
-            w_int, w_lim, model.spring_a, model.spring_b, model.spring_rest, model.spring_k,
-            model.spring_c, model.n_limited, model.fabric.compression, self.gravity,
-            model.fabric.air + self.extra_air, self._seam_a, self._seam_b,
-            self.seam_stiffness, self.seam_damping, self._lam_seam, h, nsteps,
-            self.xpbd_iterations, limit, self.tau, self.max_speed, self._bad)
+        X = xpbd_kernels
+        work = X.XpbdWork(self._p, self._lam)
+        springs = X.XpbdModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
+                              model.spring_rest, model.spring_k, model.spring_c,
+                              model.n_limited, model.fabric.compression, self.gravity,
+                              model.fabric.air + self.extra_air)
+        seams = X.XpbdSeams(self._seam_a, self._seam_b, self.seam_stiffness, self.seam_damping,
+                            self._lam_seam)
+        steps = X.XpbdSteps(h, nsteps, self.xpbd_iterations, limit, self.tau, self.max_speed)
+        return X.run_steps_xpbd(state.positions, state.velocities, self._xprev, tuple(work),
+                                tuple(springs), tuple(seams), tuple(steps), self._bad)
 
     def _ordered_clamp(self, model, state, w_int, w_lim, h) -> None:
         """The paper's ordered pass as the final clamp of an XPBD step

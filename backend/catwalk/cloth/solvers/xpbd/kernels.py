@@ -4,10 +4,19 @@ the springs as compliant distance constraints, Gauss–Seidel sweeps a step."""
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numba
 import numpy as np
 
 from catwalk.cloth.solvers import STATUS_EXPLODED, STATUS_NONFINITE, STATUS_OK
+
+# run_steps_xpbd's inputs, grouped (passed as plain tuples: numba types a named tuple a few µs
+# slower a call)
+XpbdWork = namedtuple("XpbdWork", "p lam")
+XpbdModel = namedtuple("XpbdModel", "mass w_int w_lim sa sb rest k c n_lim compress gravity air")
+XpbdSeams = namedtuple("XpbdSeams", "seam_a seam_b seam_k seam_c lam_seam")
+XpbdSteps = namedtuple("XpbdSteps", "dt nsteps iterations limit tau vmax")
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -50,11 +59,15 @@ def _xpbd_distance(p, x, a, b, wa, wb, rest, at, gam, lam):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def run_steps_xpbd(x, v, xprev, p, lam, mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, compress,
-                   gravity, air, seam_a, seam_b, seam_k, seam_c, lam_seam, dt, nsteps,
-                   iterations, limit, tau, vmax, out_bad):
+def run_steps_xpbd(x, v, xprev, work, model, seams, steps, out_bad):
     """``nsteps`` steps of XPBD (Macklin, Müller & Chentanez 2016, "XPBD: position-based
     simulation of compliant constrained dynamics"), the alternative integrator.
+
+    The inputs come grouped (tuples in the fields' order, unpacked here): ``work``
+    (:data:`XpbdWork`: the predicted positions, the springs' multipliers), ``model``
+    (:data:`XpbdModel`: masses, inverse masses for the integration and the limit, the
+    springs, ``compress``, ``gravity``, ``air``), ``seams`` (:data:`XpbdSeams`) and ``steps``
+    (:data:`XpbdSteps`: ``dt``, ``nsteps``, ``iterations``, ``limit``, ``tau``, ``vmax``).
 
     Per step: v += dt·(g − air·v) for free points; p = x + dt·v; ``iterations`` Gauss–Seidel
     sweeps (storage order) over the springs as compliant distance constraints (compliance
@@ -64,6 +77,10 @@ def run_steps_xpbd(x, v, xprev, p, lam, mass, w_int, w_lim, sa, sb, rest, k, c, 
     hard inequality constraint length ≤ (1+τ)·rest (pinned and held points immovable, ``w_lim``);
     then v = (p − x)/dt, x = p. Returns a status as :func:`run_steps` does.
     """
+    p, lam = work
+    mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, compress, gravity, air = model
+    seam_a, seam_b, seam_k, seam_c, lam_seam = seams
+    dt, nsteps, iterations, limit, tau, vmax = steps
     n = x.shape[0]
     v2max = vmax * vmax
     inv_dt = 1.0 / dt
