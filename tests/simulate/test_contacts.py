@@ -4,7 +4,7 @@ the sources' held points and planes in priority order (the body's plane before t
 import numpy as np
 
 from catwalk.cloth.state import PLANE_COLUMNS, State
-from catwalk.simulate.contacts import Contacts, Floor, keep
+from catwalk.simulate.contacts import Contacts, Floor, contacts_of, keep
 
 
 def _state(x, v):
@@ -16,7 +16,7 @@ def _state(x, v):
 def test_the_floor_lifts_stops_and_slows_what_sinks_into_it():
     st = _state([[0, 0.001, 0], [0, 0.5, 0], [0, -0.01, 0]],
                 [[1.0, -2.0, 0], [1.0, -2.0, 0], [0.1, -1.0, 0]])
-    c = Floor(thickness=0.004, friction=0.3).resolve(st)
+    c = contacts_of(Floor(thickness=0.004, friction=0.3), st)
     assert c.held.tolist() == [True, False, True]
     assert np.allclose(st.positions[[0, 2], 1], 0.004) and st.positions[1, 1] == 0.5
     assert np.all(st.velocities[[0, 2], 1] == 0.0) and st.velocities[1, 1] == -2.0

@@ -92,7 +92,11 @@ def _resolve(kind, x, v, xprev, centre, normal, radius, thickness, friction, sti
 
 
 class _Analytic:
+    """A :class:`~catwalk.cloth.solvers.Collider` of one analytic shape; it leaves no contact
+    planes (the solver's step resolves it after every substep)."""
+
     kind = _KIND_PLANE
+    planes = None
 
     def __init__(self, centre, normal=(0.0, 1.0, 0.0), radius=0.0, thickness=0.002,
                  friction=0.4, stick=False):

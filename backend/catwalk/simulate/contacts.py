@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from catwalk.cloth.solvers import Collider
 from catwalk.cloth.state import PLANE_COLUMNS, State
 
 
@@ -25,36 +26,50 @@ class Contacts(NamedTuple):
     planes: np.ndarray | None
 
 
-def body_contacts(collider, state: State, x0: np.ndarray, alpha: float | None,
-                  final: bool = False) -> Contacts:
-    """The body's collider at ``alpha`` of its frame: it moves the points out of the body and
-    fixes their velocities in place (``x0``: where they were at the last response);
-    ``final``: the answer is the frame kept (the collider's ``resolve``)."""
-    held = np.asarray(collider.resolve(state.positions, state.velocities, x0, alpha=alpha,
-                                       final=final), dtype=bool)
-    planes = getattr(collider, "planes", None)
-    if planes is None or planes.shape != (len(held), PLANE_COLUMNS):
+def contacts_of(source: Collider, state: State, x0: np.ndarray | None = None,
+                **options) -> Contacts:
+    """One detection by ``source`` (a :class:`~catwalk.cloth.solvers.Collider`): it moves the
+    state's points out and fixes their velocities in place (``x0``: where they were at the
+    last response; ``options``: the source's own, e.g. the body collider's ``alpha`` and
+    ``final``); the points it holds and its contact planes."""
+    held = np.asarray(source.resolve(state.positions, state.velocities, x0, **options),
+                      dtype=bool)
+    planes = getattr(source, "planes", None)
+    if planes is not None and planes.shape not in ((len(held), PLANE_COLUMNS),
+                                                   (PLANE_COLUMNS,)):
         planes = None
     return Contacts(held, planes)
 
 
+def body_contacts(collider: Collider, state: State, x0: np.ndarray, alpha: float | None,
+                  final: bool = False) -> Contacts:
+    """The body's collider at ``alpha`` of its frame (``final``: the answer is the frame
+    kept)."""
+    return contacts_of(collider, state, x0, alpha=alpha, final=final)
+
+
 @dataclass(frozen=True)
 class Floor:
-    """The catwalk's floor, y = ``y0`` (the body's soles), as a contact source: points below
-    ``y0 + thickness`` go up to it, lose their downward velocity and, by Coulomb friction,
-    ``friction``·|Δv_y| of their sliding speed."""
+    """The catwalk's floor, y = ``y0`` (the body's soles), as a collider
+    (:class:`~catwalk.cloth.solvers.Collider`): points below ``y0 + thickness`` go up to it,
+    lose their downward velocity and, by Coulomb friction, ``friction``·|Δv_y| of their
+    sliding speed; its contact plane is one row every point it holds shares."""
 
     thickness: float
     friction: float
     y0: float = 0.0
 
-    def resolve(self, state: State) -> Contacts:
-        x, v = state.positions, state.velocities
+    @property
+    def planes(self) -> np.ndarray:
+        return np.array([0.0, 1.0, 0.0, self.y0 + self.thickness, 0.0, 0.0, 0.0,
+                         self.friction])
+
+    def resolve(self, positions: np.ndarray, velocities: np.ndarray,
+                previous_positions: np.ndarray | None = None) -> np.ndarray:
+        x, v = positions, velocities
         low = x[:, 1] < self.y0 + self.thickness
-        plane = np.array([0.0, 1.0, 0.0, self.y0 + self.thickness, 0.0, 0.0, 0.0,
-                          self.friction])
         if not low.any():
-            return Contacts(low, plane)
+            return low
         idx = np.nonzero(low)[0]
         x[idx, 1] = self.y0 + self.thickness
         dv = np.maximum(-v[idx, 1], 0.0)
@@ -65,7 +80,7 @@ class Floor:
                         0.0)
         v[idx, 0] *= keep
         v[idx, 2] *= keep
-        return Contacts(low, plane)
+        return low
 
 
 def keep(state: State, *sources: Contacts) -> None:

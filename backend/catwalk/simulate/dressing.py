@@ -68,7 +68,7 @@ from catwalk.cloth.solvers.explicit.solver import Solver, max_strain
 from catwalk.cloth.state import State
 from catwalk.collide import make_collider
 from catwalk.errors import Cancelled, InputError, SimulationError
-from catwalk.simulate.contacts import Floor, body_contacts, keep
+from catwalk.simulate.contacts import Floor, body_contacts, contacts_of, keep
 from catwalk.simulate.garment_cloth import GarmentCloth, garment_cloth, seam_gaps, weld
 from catwalk.simulate.settings import PRESETS, Settings
 from catwalk.simulate.stepping import (
@@ -124,7 +124,7 @@ def push_out(solver: Solver, model: ClothModel, state: State, collider, x0: np.n
             raise Cancelled("try-on cancelled")
         x0[:] = state.positions
         body = body_contacts(collider, state, x0, 1.0)
-        keep(state, body, Floor(collider.thickness, 0.0).resolve(state))
+        keep(state, body, contacts_of(Floor(collider.thickness, 0.0), state))
         # the first rounds relax every spring (points pushed to opposite sides of a thin limb
         # pull each other back); the last keeps the pushed points where the body put them
         if r < rounds - 1:

@@ -23,7 +23,7 @@ from catwalk.cloth.solvers import ClothExplosionError
 from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.cloth.state import State
 from catwalk.errors import Cancelled
-from catwalk.simulate.contacts import Floor, body_contacts, keep
+from catwalk.simulate.contacts import Floor, body_contacts, contacts_of, keep
 from catwalk.simulate.settings import Settings
 
 ORDER_TOLERANCE = 0.05   # recompute the strain-limit order when 5 % of the contacts changed
@@ -49,7 +49,7 @@ def collide_and_floor(state: State, collider, x0: np.ndarray, alpha: float | Non
     body's, the floor's for points on it that the body does not hold) until the next
     response."""
     body = body_contacts(collider, state, x0, alpha, final)
-    keep(state, body, Floor(collider.thickness, collider.friction).resolve(state))
+    keep(state, body, contacts_of(Floor(collider.thickness, collider.friction), state))
 
 
 def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, x0: np.ndarray,

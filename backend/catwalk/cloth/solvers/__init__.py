@@ -18,6 +18,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Protocol
 
+import numpy as np
+
 from catwalk.cloth.model import ClothModel
 from catwalk.cloth.state import State
 from catwalk.errors import SimulationError
@@ -40,6 +42,24 @@ class StepInfo:
     order_rebuilt: bool
 
 
+class Collider(Protocol):
+    """Something that resolves collisions with the cloth: the body's colliders
+    (:mod:`catwalk.collide`), the catwalk's floor (:class:`catwalk.simulate.contacts.Floor`),
+    the analytic shapes of the tests and the drape (:mod:`catwalk.cloth.analytic`).
+
+    :meth:`resolve` moves the points that crossed into it back out (``previous_positions``:
+    where they were at the last response) and fixes their velocities, in place, and returns
+    the points it holds (a bool mask, an index array or None). ``planes``: the contact planes of
+    its last answer — (P, ``PLANE_COLUMNS``) rows, one row shared by every held point, or None —
+    which the state keeps and the solver holds the points behind until the next response."""
+
+    planes: np.ndarray | None
+
+    def resolve(self, positions: np.ndarray, velocities: np.ndarray,
+                previous_positions: np.ndarray):
+        """Push the points out; the points held."""
+
+
 class ClothSolver(Protocol):
     """What the dressing and the walk need of a cloth solver."""
 
@@ -48,7 +68,7 @@ class ClothSolver(Protocol):
     #: the strain limit τ its clamp holds
     tau: float
 
-    def step(self, model: ClothModel, state: State, collider=None,
+    def step(self, model: ClothModel, state: State, collider: Collider | None = None,
              dt: float | None = None) -> StepInfo:
         """Advance ``state`` by ``dt`` seconds (``collider``: resolved after every substep)."""
 
