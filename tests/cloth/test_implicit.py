@@ -11,7 +11,7 @@ from catwalk.cloth.scenes import hanging_cloth
 from catwalk.cloth.solvers.explicit.solver import Solver, max_strain
 from catwalk.cloth.solvers.implicit import ImplicitSolver
 from catwalk.cloth.solvers.implicit import system as S
-from catwalk.cloth.solvers.implicit.cholesky import Factor
+from catwalk.cloth.solvers.implicit.factor import Factor
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import capsule
 from catwalk.errors import CatwalkError
@@ -95,9 +95,13 @@ def test_the_factor_solves_the_system():
     a = S.system_matrix(m, 1 / 90, np.arange(m.n_limited), None, 0.3)
     rng = np.random.default_rng(1)
     b = rng.standard_normal((m.n_points, 3))
+    lengths = set()
     for order in ("metis", "mmd", "rcm", "natural"):
         f = Factor(a, order)
         assert np.abs(a @ f.solve(b) - b).max() < 1e-9 * np.abs(b).max()
+        assert f.chains[:, 1].sum() == m.n_points
+        lengths |= set(f.chains[:, 1].tolist())
+    assert lengths == {1, 2, 3}                     # every kind of run of columns solved
     with pytest.raises(CatwalkError):
         Factor(-a)
 
