@@ -5,6 +5,9 @@ reused, the quadratic bending's energy, contacts with a fast capsule."""
 import numpy as np
 import pytest
 
+from catwalk.bench.stress import cell
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.cloth import springs
 from catwalk.cloth.builder import Panel, build_cloth, horizontal, rectangle
 from catwalk.cloth.scenes import hanging_cloth
@@ -15,6 +18,8 @@ from catwalk.cloth.solvers.implicit.factor import Factor
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import capsule
 from catwalk.errors import CatwalkError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.simulate import preset
 from catwalk.simulate.stepping import advance
 
 
@@ -186,3 +191,27 @@ def test_contacts_keep_the_cloth_outside_a_capsule_crossing_it_at_3_m_s():
     worst = _capsule_through_cloth()
     assert worst["response"] < 0.0005
     assert worst["step"] < 0.035
+
+
+#: the catalogue garments whose implicit walk leaves points more than 2 mm inside today
+#: (docs/cloth.md, "On the catalogue": the bodice M/L 4.7 / 10.5 mm, the GarmentCode shirt
+#: M/L 49.7 / 16.7 mm, the trousers 23.8–50.4 mm — torn where the arms or legs pinch)
+_IMPLICIT_INSIDE = {"bodice", "gc-shirt", "trousers"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("size", ["S", "M", "L"])
+@pytest.mark.parametrize("name", ["bodice", "dress", "gc-dress-pencil", "gc-shirt",
+                                  "pencil-skirt", "trousers", "tshirt"])
+def test_every_catalogue_garment_walks_with_the_implicit_solver_outside_the_body(
+        request, name, size):
+    """Dressed on its sample body and walked 1 s with ``integrator="implicit"``: no blow-up
+    and no point more than 2 mm inside the body by the independent check
+    (:mod:`catwalk.geometry.surface`, every recorded frame)."""
+    if name in _IMPLICIT_INSIDE:
+        request.applymarker(pytest.mark.xfail(reason="torn where the body pinches: "
+                                              "docs/cloth.md", strict=False))
+    g = load_garment(next(p for p in catalogue_files() if p.stem == name))
+    r = cell(sample_body(g.fit[size]), g, size, preset("balanced").with_(integrator="implicit"))
+    assert r["status"] == "ok", r
+    assert r["max_penetration_mm"] <= 2.0, r
