@@ -5,16 +5,21 @@ reused, the quadratic bending's energy, contacts with a fast capsule."""
 import numpy as np
 import pytest
 
+from catwalk.bench.stress import cell
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.cloth import springs
 from catwalk.cloth.builder import Panel, build_cloth, horizontal, rectangle
 from catwalk.cloth.scenes import hanging_cloth
 from catwalk.cloth.solvers.explicit.solver import Solver, max_strain
 from catwalk.cloth.solvers.implicit import ImplicitSolver
 from catwalk.cloth.solvers.implicit import system as S
-from catwalk.cloth.solvers.implicit.cholesky import Factor
+from catwalk.cloth.solvers.implicit.factor import Factor
 from catwalk.collide import make_collider
 from catwalk.collide.shapes import capsule
 from catwalk.errors import CatwalkError
+from catwalk.exchange.garment_json import load_garment
+from catwalk.simulate import preset
 from catwalk.simulate.stepping import advance
 
 
@@ -95,9 +100,13 @@ def test_the_factor_solves_the_system():
     a = S.system_matrix(m, 1 / 90, np.arange(m.n_limited), None, 0.3)
     rng = np.random.default_rng(1)
     b = rng.standard_normal((m.n_points, 3))
+    lengths = set()
     for order in ("metis", "mmd", "rcm", "natural"):
         f = Factor(a, order)
         assert np.abs(a @ f.solve(b) - b).max() < 1e-9 * np.abs(b).max()
+        assert f.chains[:, 1].sum() == m.n_points
+        lengths |= set(f.chains[:, 1].tolist())
+    assert lengths == {1, 2, 3}                     # every kind of run of columns solved
     with pytest.raises(CatwalkError):
         Factor(-a)
 
@@ -182,3 +191,28 @@ def test_contacts_keep_the_cloth_outside_a_capsule_crossing_it_at_3_m_s():
     worst = _capsule_through_cloth()
     assert worst["response"] < 0.0005
     assert worst["step"] < 0.035
+
+
+#: the catalogue cells whose implicit walk leaves points more than 2 mm inside today
+#: (docs/cloth.md, "On the catalogue": the bodice M/L 4.7 / 10.5 mm, the GarmentCode shirt
+#: M/L 49.7 / 16.7 mm, the trousers 23.8–50.4 mm — torn where the arms or legs pinch)
+_IMPLICIT_INSIDE = {("bodice", "M"), ("bodice", "L"), ("gc-shirt", "M"), ("gc-shirt", "L"),
+                    ("trousers", "S"), ("trousers", "M"), ("trousers", "L")}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("size", ["S", "M", "L"])
+@pytest.mark.parametrize("name", ["bodice", "dress", "gc-dress-pencil", "gc-shirt",
+                                  "pencil-skirt", "trousers", "tshirt"])
+def test_every_catalogue_garment_walks_with_the_implicit_solver_outside_the_body(
+        request, name, size):
+    """Dressed on its sample body and walked 1 s with ``integrator="implicit"``: no blow-up
+    and no point more than 2 mm inside the body by the independent check
+    (:mod:`catwalk.geometry.surface`, every recorded frame)."""
+    if (name, size) in _IMPLICIT_INSIDE:
+        request.applymarker(pytest.mark.xfail(reason="torn where the body pinches: "
+                                              "docs/cloth.md", strict=False))
+    g = load_garment(next(p for p in catalogue_files() if p.stem == name))
+    r = cell(sample_body(g.fit[size]), g, size, preset("balanced").with_(integrator="implicit"))
+    assert r["status"] == "ok", r
+    assert r["max_penetration_mm"] <= 2.0, r

@@ -21,7 +21,7 @@ from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 from catwalk.bench.paper import paper_dressed
 from catwalk.cloth.solvers.implicit import kernels as K
 from catwalk.cloth.solvers.implicit import system as S
-from catwalk.cloth.solvers.implicit.cholesky import Factor
+from catwalk.cloth.solvers.implicit.factor import Factor
 from catwalk.simulate.walking import cloth_solver
 
 
@@ -54,8 +54,9 @@ def main() -> None:
     rng = np.random.default_rng(0)
     B = np.ascontiguousarray(rng.standard_normal((3, n)))
     D = np.empty_like(B)
-    W3 = np.empty((n, 3))
-    out["solve_us"] = round(best_us(lambda: K.solve_soa(f.lp, f.li, f.lx, f.perm, B, D, W3),
+    W = np.empty(3 * n)
+    out["solve_us"] = round(best_us(lambda: K.solve_soa(f.lp, f.li, f.lx, f.perm, f.chains, B,
+                                                        D, W),
                                     args.repeat), 1)
     fixed = (sol._w_int == 0.0)
     mdl = tuple(K.ImplicitModel(model.mass, fixed.astype(np.uint8), sol._runs_used,

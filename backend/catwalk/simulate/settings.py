@@ -46,7 +46,8 @@ class Settings:
     explicit) or ``implicit`` (implicit Euler steps of ``implicit_dt`` seconds,
     ``implicit_iterations`` iterations each, on a matrix factored once per garment:
     :class:`~catwalk.cloth.solvers.implicit.ImplicitSolver`; the walk only; a collision
-    response after each step, the walk's plane band at least ``implicit_plane_band``).
+    response after each step but a frame's last, which the frame's closing response follows;
+    the walk's plane band at least ``implicit_plane_band``).
     Collider: ``collider`` mode, ``map_size`` depth-map pixels per side, ``thickness`` (m) the
     cloth keeps from the body, ``friction`` (None: the fabric's), ``max_move`` (m): the body
     moves at most this far between two collision substeps of the walk (sets their number from

@@ -69,10 +69,13 @@ def resolve_contacts(solver: Solver, model: ClothModel, state: State, collider, 
 
 def advance(solver: Solver, model: ClothModel, state: State, collider, duration: float,
             collisions: int, x0: np.ndarray, max_collisions: int | None = None,
-            clock: dict | None = None, cancel: Callable[[], bool] | None = None) -> int:
+            clock: dict | None = None, cancel: Callable[[], bool] | None = None,
+            last_response: bool = True) -> int:
     """Simulate ``duration`` seconds with ``collisions`` collider resolves evenly spread (the
     k-th at ``alpha = k/collisions`` of the body's motion over the interval); the solver's own
-    time step (below its stability bound) runs in between.
+    time step (below its stability bound) runs in between. ``last_response=False``: none
+    after the interval's last stretch (the caller closes it with a response of its own at
+    the same pose).
 
     If the cloth blows up (:class:`ClothExplosionError`), the interval is run again from its
     start with twice the resolves, up to ``max_collisions`` (default: no retry) — cloth that
@@ -95,7 +98,8 @@ def advance(solver: Solver, model: ClothModel, state: State, collider, duration:
                 solver.step(model, state, None, h)
                 t1 = time.perf_counter()
                 slowed = resolve_contacts(solver, model, state, collider, x0, h,
-                                          alpha=(k + 1) / collisions, clock=clock)
+                                          alpha=(k + 1) / collisions, clock=clock) \
+                    if last_response or k + 1 < collisions else 0
                 if clock is not None:
                     clock["slowed"] = clock.get("slowed", 0) + slowed
                     clock["cloth"] = clock.get("cloth", 0.0) + t1 - t0
@@ -119,8 +123,9 @@ def restore(state: State, saved: State) -> None:
 
 def collisions_for(move: float, settings: Settings) -> int:
     """Collider resolves per 1/30 s for a cloth/body that moved ``move`` metres in it (the
-    implicit integrator: one after each of its steps, whatever the motion — its step, and so
-    its factored matrix, stays the same)."""
+    implicit integrator: its steps a frame, whatever the motion — its step, and so its
+    factored matrix, stays the same —, a response after each but the last, which the frame's
+    closing response follows)."""
     if settings.integrator == "implicit":
         return max(1, round(1.0 / (30.0 * settings.implicit_dt)))
     n = math.ceil(move / settings.max_move) if move > 0 else 1

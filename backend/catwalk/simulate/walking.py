@@ -233,8 +233,11 @@ def _step_frame(solver, model, state, collider, v_prev, v_next, vel_next, frame_
     t0 = time.perf_counter()
     collider.update(v_next.astype(np.float64), vel_next.astype(np.float64), substeps=n_col)
     tc = time.perf_counter() - t0
+    # the implicit walk: no response after the frame's last step — the frame's closing one
+    # below is at the same pose (docs/cloth.md: one response a frame less, ≈ 1–1.7 ms)
+    last = settings.integrator != "implicit"
     n_col = advance(solver, model, state, collider, frame_dt, n_col, x0,
-                    settings.max_collisions * 4, clock, cancel)
+                    settings.max_collisions * 4, clock, cancel, last_response=last) - (not last)
     # the relaxation may have pulled free points into the body: settle the frame's final
     # positions against the body as it is at the frame's time (the frame recorded: the
     # pushed points looked at again, each searched afresh)

@@ -1,6 +1,6 @@
 """The implicit cloth solver on a prefactored system (issue 43): implicit Euler as a
 minimisation over a matrix factored once per garment (:mod:`.solver`, :mod:`.system`,
-:mod:`.cholesky`, :mod:`.kernels`)."""
+:mod:`.factor`, :mod:`.kernels`)."""
 
 from catwalk.cloth.solvers.implicit.solver import ImplicitSolver
 

@@ -6,7 +6,7 @@ forces — the explicit solver's force loop,
 :func:`catwalk.cloth.solvers.explicit.kernels.accumulate_forces`, with the velocities (x − xₙ)/h,
 so the damping along the springs is implicit too —, gravity, air drag, the quadratic bending −Q·x,
 the inertia −M(x − y)/h²); A the constant matrix that
-:class:`~catwalk.cloth.solvers.implicit.cholesky.Factor` holds factored. For a spring this is Liu
+:class:`~catwalk.cloth.solvers.implicit.factor.Factor` holds factored. For a spring this is Liu
 et al. 2013's local/global step (the local step's projection at rest length is the force
 k·(l − r)·n̂; the global step the solve), written as a preconditioned gradient step so that the
 softer compression and the damping along the springs come from the same force loop
@@ -31,58 +31,192 @@ from catwalk.cloth.solvers.explicit.kernels import accumulate_forces
 ImplicitModel = namedtuple("ImplicitModel", "mass fixed runs n_runs_lim rest k c compress "
                            "gravity air seam_a seam_b seam_k")
 Bending = namedtuple("Bending", "ptr idx val coef")
-FactorArrays = namedtuple("FactorArrays", "lp li lx perm")
+FactorArrays = namedtuple("FactorArrays", "lp li lx perm chains")
 Iteration = namedtuple("Iteration", "iterations rho gamma cheby_start")
-Work = namedtuple("Work", "X0 Y V F R D XPREV T W3")
+Work = namedtuple("Work", "X0 Y V F R D XPREV T W")
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _forward(lp, li, lx, j, c, W):
+    """L·y = b over the chain of ``c`` (1–3) columns from ``j`` (each column's pattern the
+    previous one's without its diagonal): its diagonal block solved, then every row below
+    updated once for the whole chain (one pass over those rows of ``W`` instead of ``c``)."""
+    p = lp[j]
+    d = 1.0 / lx[p]
+    a0 = W[3 * j] * d
+    a1 = W[3 * j + 1] * d
+    a2 = W[3 * j + 2] * d
+    W[3 * j] = a0
+    W[3 * j + 1] = a1
+    W[3 * j + 2] = a2
+    b0 = b1 = b2 = c0 = c1 = c2 = 0.0
+    q = r = 0
+    if c >= 2:
+        q = lp[j + 1]
+        l10 = lx[p + 1]
+        d1 = 1.0 / lx[q]
+        b0 = (W[3 * j + 3] - l10 * a0) * d1
+        b1 = (W[3 * j + 4] - l10 * a1) * d1
+        b2 = (W[3 * j + 5] - l10 * a2) * d1
+        W[3 * j + 3] = b0
+        W[3 * j + 4] = b1
+        W[3 * j + 5] = b2
+        q += c - 1
+    if c == 3:
+        r = lp[j + 2]
+        l20 = lx[p + 2]
+        l21 = lx[lp[j + 1] + 1]
+        d2 = 1.0 / lx[r]
+        c0 = (W[3 * j + 6] - l20 * a0 - l21 * b0) * d2
+        c1 = (W[3 * j + 7] - l20 * a1 - l21 * b1) * d2
+        c2 = (W[3 * j + 8] - l20 * a2 - l21 * b2) * d2
+        W[3 * j + 6] = c0
+        W[3 * j + 7] = c1
+        W[3 * j + 8] = c2
+        r += 1
+    pe = lp[j + 1]
+    p += c
+    if c == 1:
+        for t in range(p, pe):
+            i = 3 * li[t]
+            u = lx[t]
+            W[i] -= u * a0
+            W[i + 1] -= u * a1
+            W[i + 2] -= u * a2
+    elif c == 2:
+        for t in range(pe - p):
+            i = 3 * li[p + t]
+            u = lx[p + t]
+            v = lx[q + t]
+            W[i] -= u * a0 + v * b0
+            W[i + 1] -= u * a1 + v * b1
+            W[i + 2] -= u * a2 + v * b2
+    else:
+        for t in range(pe - p):
+            i = 3 * li[p + t]
+            u = lx[p + t]
+            v = lx[q + t]
+            w = lx[r + t]
+            W[i] -= u * a0 + v * b0 + w * c0
+            W[i + 1] -= u * a1 + v * b1 + w * c1
+            W[i + 2] -= u * a2 + v * b2 + w * c2
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _backward(lp, li, lx, j, c, W):
+    """Lᵀ·x = y over the chain of ``c`` columns from ``j`` (:func:`_forward`'s): the rows
+    below read once for the whole chain, then its diagonal block."""
+    p = lp[j]
+    pe = lp[j + 1]
+    a0 = W[3 * j]
+    a1 = W[3 * j + 1]
+    a2 = W[3 * j + 2]
+    if c == 1:
+        for t in range(p + 1, pe):
+            i = 3 * li[t]
+            u = lx[t]
+            a0 -= u * W[i]
+            a1 -= u * W[i + 1]
+            a2 -= u * W[i + 2]
+        d = 1.0 / lx[p]
+        W[3 * j] = a0 * d
+        W[3 * j + 1] = a1 * d
+        W[3 * j + 2] = a2 * d
+        return
+    q = lp[j + 1]
+    b0 = W[3 * j + 3]
+    b1 = W[3 * j + 4]
+    b2 = W[3 * j + 5]
+    c0 = c1 = c2 = 0.0
+    r = 0
+    if c == 2:
+        for t in range(pe - p - 2):
+            i = 3 * li[p + 2 + t]
+            u = lx[p + 2 + t]
+            v = lx[q + 1 + t]
+            x0 = W[i]
+            x1 = W[i + 1]
+            x2 = W[i + 2]
+            a0 -= u * x0
+            a1 -= u * x1
+            a2 -= u * x2
+            b0 -= v * x0
+            b1 -= v * x1
+            b2 -= v * x2
+    else:
+        r = lp[j + 2]
+        c0 = W[3 * j + 6]
+        c1 = W[3 * j + 7]
+        c2 = W[3 * j + 8]
+        for t in range(pe - p - 3):
+            i = 3 * li[p + 3 + t]
+            u = lx[p + 3 + t]
+            v = lx[q + 2 + t]
+            w = lx[r + 1 + t]
+            x0 = W[i]
+            x1 = W[i + 1]
+            x2 = W[i + 2]
+            a0 -= u * x0
+            a1 -= u * x1
+            a2 -= u * x2
+            b0 -= v * x0
+            b1 -= v * x1
+            b2 -= v * x2
+            c0 -= w * x0
+            c1 -= w * x1
+            c2 -= w * x2
+        d2 = 1.0 / lx[r]
+        c0 *= d2
+        c1 *= d2
+        c2 *= d2
+        l21 = lx[q + 1]
+        b0 -= l21 * c0
+        b1 -= l21 * c1
+        b2 -= l21 * c2
+        a0 -= lx[p + 2] * c0
+        a1 -= lx[p + 2] * c1
+        a2 -= lx[p + 2] * c2
+        W[3 * j + 6] = c0
+        W[3 * j + 7] = c1
+        W[3 * j + 8] = c2
+    d1 = 1.0 / lx[q]
+    b0 *= d1
+    b1 *= d1
+    b2 *= d1
+    l10 = lx[p + 1]
+    d = 1.0 / lx[p]
+    W[3 * j] = (a0 - l10 * b0) * d
+    W[3 * j + 1] = (a1 - l10 * b1) * d
+    W[3 * j + 2] = (a2 - l10 * b2) * d
+    W[3 * j + 3] = b0
+    W[3 * j + 4] = b1
+    W[3 * j + 5] = b2
 
 
 @numba.njit(cache=True, error_model="numpy")
-def solve_soa(lp, li, lx, perm, B, X, W3):
+def solve_soa(lp, li, lx, perm, chains, B, X, W):
     """X = A⁻¹·B for the three rows of ``B`` (3, n) at once (X may be B); A = Pᵀ·L·Lᵀ·P,
-    L in CSC (``lp``, ``li``, ``lx``, diagonal first in each column), ``perm[k]`` the point
-    of row k of P·A·Pᵀ; ``W3`` (n, 3) scratch (the permuted right-hand side, the three
-    coordinates of a point side by side)."""
+    L in CSC (``lp``, ``li``, ``lx``, the diagonal first in each column), ``perm[k]`` the
+    point of row k of P·A·Pᵀ. ``chains`` (m, 2): L's columns in runs of 1–3 whose patterns
+    nest (start, length; :func:`catwalk.cloth.solvers.implicit.factor.column_chains`), each
+    run's rows below read once a sweep, as CHOLMOD's simplicial solve does; ``W`` (3n,)
+    scratch: the permuted right-hand side, a point's three coordinates side by side."""
     n = perm.shape[0]
     for k in range(n):
         i = perm[k]
-        W3[k, 0] = B[0, i]
-        W3[k, 1] = B[1, i]
-        W3[k, 2] = B[2, i]
-    for j in range(n):
-        p0 = lp[j]
-        d = 1.0 / lx[p0]
-        y0 = W3[j, 0] * d
-        y1 = W3[j, 1] * d
-        y2 = W3[j, 2] * d
-        W3[j, 0] = y0
-        W3[j, 1] = y1
-        W3[j, 2] = y2
-        for p in range(p0 + 1, lp[j + 1]):
-            i = li[p]
-            v = lx[p]
-            W3[i, 0] -= v * y0
-            W3[i, 1] -= v * y1
-            W3[i, 2] -= v * y2
-    for j in range(n - 1, -1, -1):
-        p0 = lp[j]
-        s0 = W3[j, 0]
-        s1 = W3[j, 1]
-        s2 = W3[j, 2]
-        for p in range(p0 + 1, lp[j + 1]):
-            i = li[p]
-            v = lx[p]
-            s0 -= v * W3[i, 0]
-            s1 -= v * W3[i, 1]
-            s2 -= v * W3[i, 2]
-        d = 1.0 / lx[p0]
-        W3[j, 0] = s0 * d
-        W3[j, 1] = s1 * d
-        W3[j, 2] = s2 * d
+        W[3 * k] = B[0, i]
+        W[3 * k + 1] = B[1, i]
+        W[3 * k + 2] = B[2, i]
+    m = chains.shape[0]
+    for h in range(m):
+        _forward(lp, li, lx, chains[h, 0], chains[h, 1], W)
+    for h in range(m - 1, -1, -1):
+        _backward(lp, li, lx, chains[h, 0], chains[h, 1], W)
     for k in range(n):
         i = perm[k]
-        X[0, i] = W3[k, 0]
-        X[1, i] = W3[k, 1]
-        X[2, i] = W3[k, 2]
+        X[0, i] = W[3 * k]
+        X[1, i] = W[3 * k + 1]
+        X[2, i] = W[3 * k + 2]
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -190,8 +324,8 @@ def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touche
     and the projections stretch the cloth round them further each time. ``norms[j]``: |R|²
     at iteration j (the last entry after the last update)."""
     iterations, rho, gamma, cheby_start = it
-    lp, li, lx, perm = fac
-    D, XPREV, W3 = work[5], work[6], work[8]
+    lp, li, lx, perm, chains = fac
+    D, XPREV, W = work[5], work[6], work[8]
     n = X.shape[1]
     omega = 1.0
     for q in range(3):
@@ -202,7 +336,7 @@ def iterate(X, h, model, bend, fac, it, work, plane_idx, planes, plane_t, touche
         norms[j] = residual(X, h, model, bend, work)
         if project:
             add_pushes(R, plane_idx, planes, lam)
-        solve_soa(lp, li, lx, perm, work[4], D, W3)
+        solve_soa(lp, li, lx, perm, chains, work[4], D, W)
         if j < cheby_start:
             omega = 1.0
         elif j == cheby_start:

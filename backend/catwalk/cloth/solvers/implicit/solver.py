@@ -43,7 +43,7 @@ from catwalk.cloth.solvers.explicit import kernels as CK
 from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.cloth.solvers.implicit import kernels as K
 from catwalk.cloth.solvers.implicit import system
-from catwalk.cloth.solvers.implicit.cholesky import ORDERS, Factor
+from catwalk.cloth.solvers.implicit.factor import ORDERS, Factor
 from catwalk.cloth.state import State
 from catwalk.errors import InputError
 
@@ -125,7 +125,7 @@ class ImplicitSolver(Solver):
             self._runs_used = self._runs
         self._factor = None
         self._factor_key = None
-        self._iwork = K.Work(*(np.zeros((3, n)) for _ in range(8)), np.zeros((n, 3)))
+        self._iwork = K.Work(*(np.zeros((3, n)) for _ in range(8)), np.zeros(3 * n))
         self._touched = np.zeros(n, np.uint8)
         self._lam = np.zeros(n)
         self._lam_keep = np.zeros(n)
@@ -142,7 +142,7 @@ class ImplicitSolver(Solver):
                 a = (a + system.laplacian(model.n_points, self._seam_a, self._seam_b,
                                           np.full(len(self._seam_a), self.seam_stiffness +
                                                   self.seam_damping / h))).tocsc()
-            self._factor = Factor(a, self.order, self._factor and self._factor.symbolic)
+            self._factor = Factor(a, self.order, self._factor)
             self._factor_key = key
             self.factorizations += 1
             self.factor_seconds += time.perf_counter() - t
@@ -160,7 +160,7 @@ class ImplicitSolver(Solver):
         step's end, in the state), instead of xₙ + h·vₙ."""
         fixed = (w_int == 0.0)
         f = self._factor_for(model, h, fixed)
-        X0, Y, V, F, R, D, XPREV, T, W3 = self._iwork
+        X0, Y, V, F, R, D, XPREV, T, W = self._iwork
         springs.to_soa(state.positions, X0)
         if predicted is None:
             springs.to_soa(state.velocities, V)
@@ -188,7 +188,7 @@ class ImplicitSolver(Solver):
                               model.spring_c, model.fabric.compression, self.gravity,
                               model.fabric.air + self.extra_air, self._seam_a, self._seam_b,
                               self.seam_stiffness)
-        K.iterate(X, h, tuple(mdl), tuple(self._bend), (f.lp, f.li, f.lx, f.perm),
+        K.iterate(X, h, tuple(mdl), tuple(self._bend), (f.lp, f.li, f.lx, f.perm, f.chains),
                   (self.iterations, self.rho, self.gamma, self.cheby_start),
                   tuple(self._iwork), idx, rows, t_end, touched, self.last_residuals,
                   self._lam, kappa, project)
