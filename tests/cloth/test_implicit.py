@@ -8,6 +8,7 @@ import pytest
 from catwalk.bench.stress import cell
 from catwalk.catalogue.bodies import sample_body
 from catwalk.catalogue.garments import catalogue_files
+from catwalk.cloth import bending as B
 from catwalk.cloth import springs
 from catwalk.cloth.builder import Panel, build_cloth, horizontal, rectangle
 from catwalk.cloth.scenes import hanging_cloth
@@ -54,7 +55,7 @@ def _energy(model, state, sol) -> float:
     se = float(springs.spring_energy(x, model.spring_a[:n], model.spring_b[:n],
                                 model.spring_rest[:n], model.spring_k[:n], n,
                                 model.fabric.compression))
-    lap, coef, _ = S.bending(model, S.bending_rigidity(model))
+    lap, coef, _ = B.bending(model, B.bending_rigidity(model))
     be = 0.5 * float(np.sum(coef[:, None] * (lap @ x) ** 2))
     return ke + ge + se + be
 
@@ -115,10 +116,10 @@ def test_the_factor_solves_the_system():
 def test_the_quadratic_bending_stores_half_b_kappa_squared_in_every_direction(h):
     m = build_cloth([Panel(rectangle(0.6, 0.6), placement=horizontal(1.0))],
                     fabric="cotton-jersey", h=h)
-    lap, coef, q = S.bending(m, 1.0)
+    lap, coef, q = B.bending(m, 1.0)
     uv = m.uv - m.uv.mean(axis=0)
     inner = np.all(np.abs(uv) < 0.2, axis=1)
-    _, area = S.cotan_laplacian(m)
+    _, area = B.cotan_laplacian(m)
     R = 0.1
     for deg in (0, 30, 45, 90):
         a = np.radians(deg)

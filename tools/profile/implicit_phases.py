@@ -19,6 +19,7 @@ import numpy as np
 from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
 from catwalk.bench.paper import paper_dressed
+from catwalk.cloth import bending as bend_law
 from catwalk.cloth.solvers.implicit import kernels as K
 from catwalk.cloth.solvers.implicit import system as S
 from catwalk.cloth.solvers.implicit.factor import Factor
@@ -42,8 +43,8 @@ def main() -> None:
     f = sol._factor
     factors = {}
     for order in ("metis", "mmd"):
-        for name, q in (("bend_on_diagonal", sol._bend_q),
-                        ("bend_in_matrix", S.bending(model, S.bending_rigidity(model))[2])):
+        in_matrix = bend_law.bending(model, bend_law.bending_rigidity(model))[2]
+        for name, q in (("bend_on_diagonal", sol._bend_q), ("bend_in_matrix", in_matrix)):
             aa = S.system_matrix(model, h, sol._springs, q, model.fabric.air, None)
             t = time.perf_counter()
             ff = Factor(aa, order)

@@ -36,7 +36,7 @@ import time
 import numpy as np
 import scipy.sparse as sp
 
-from catwalk.cloth import springs
+from catwalk.cloth import bending, springs
 from catwalk.cloth.model import ClothModel
 from catwalk.cloth.solvers import ClothExplosionError
 from catwalk.cloth.solvers.explicit import kernels as CK
@@ -106,9 +106,9 @@ class ImplicitSolver(Solver):
         self.dt_max = self.implicit_dt
         n = model.n_points
         if self.bending == "quadratic":
-            b = system.bending_rigidity(model) if self.bend_rigidity is None else \
+            b = bending.bending_rigidity(model) if self.bend_rigidity is None else \
                 self.bend_rigidity
-            lap, coef, q = system.bending(model, b)
+            lap, coef, q = bending.bending(model, b)
             self._bend = K.Bending(lap.indptr.astype(np.int64), lap.indices.astype(np.int64),
                                    lap.data.astype(np.float64), coef)
             # in A whole, or as its rows' absolute sums on the diagonal (a bound of Q that
