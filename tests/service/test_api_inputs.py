@@ -104,7 +104,7 @@ def test_body_from_measurements(client, body, storage):
     assert client.get(body["body_url"], headers={"If-None-Match": glb.headers["etag"]}
                       ).status_code == 304
     # bodies are never listed
-    assert client.get("/api/bodies").status_code in (404, 405)
+    assert client.get("/api/bodies").status_code == 405
 
 
 @pytest.mark.parametrize("payload, status, field", [
@@ -258,6 +258,11 @@ def test_the_pages_are_served_with_a_history_fallback(tmp_path, catalogue_dir):
         _error(c.delete("/garments/x"), 404)
         r = c.delete("/api/garments")                          # a real route, another method
         assert r.status_code == 405 and r.headers["allow"] == "GET", r.headers
+        # a GET where only another method is routed: 405 naming it, not the pages' 404
+        for path in ("/api/bodies", "/api/tryons"):
+            r = c.get(path)
+            assert r.status_code == 405 and r.headers["allow"] == "POST", (path, r.text)
+            _error(r, 405, code="method_not_allowed")
         assert c.get("/api/garments").json()["garments"]        # the API still answers
         assert c.get("/openapi.json").json()["paths"]
         sizes = c.get("/api/garments/pencil-skirt/sizes", params={"body_id": "x" * 32})
@@ -311,3 +316,32 @@ def test_metrics(client, body):
     assert "catwalk_queue_messages" in after
     text = client.get("/metrics").text
     assert body["id"] not in text and job["id"] not in text   # routes by template: no ids
+
+
+@pytest.mark.parametrize("payload", [
+    b"[" * 100_000 + b"]" * 100_000,                   # 100,000 nested arrays
+    b'{"a":' * 50_000 + b"1" + b"}" * 50_000,          # 50,000 nested objects
+])
+def test_deeply_nested_json_is_a_400_not_a_500(client, payload):
+    for route in ("/api/bodies", "/api/tryons"):
+        _error(client.post(route, content=payload, headers={"content-type":
+                                                            "application/json"}), 400)
+
+
+@pytest.mark.parametrize("route, payload, field", [
+    ("/api/bodies", {**MEASURES, "height": "1.68"}, "height"),      # a string is not a number
+    ("/api/bodies", {**MEASURES, "bust": True}, "bust"),            # nor is true
+    ("/api/tryons", {"garment_id": "pencil-skirt", "seconds": True}, "seconds"),
+    ("/api/tryons", {"garment_id": "pencil-skirt", "seconds": "2"}, "seconds"),
+    ("/api/tryons", {"garment_id": 7}, "garment_id"),
+])
+def test_numbers_are_numbers(client, body, route, payload, field):
+    if route == "/api/tryons":
+        payload = {"body_id": body["id"], **payload}
+    _error(client.post(route, json=payload), 422, field)
+
+
+def test_a_long_path_or_query_is_a_json_414(client):
+    _error(client.get("/api/garments/" + "a" * 5000), 414, code="uri_too_long")
+    _error(client.get("/api/garments", params={"q": "a" * 20_000}), 414, code="uri_too_long")
+    assert client.get("/api/garments", params={"type": "dress"}).status_code == 200

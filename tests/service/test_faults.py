@@ -1,6 +1,7 @@
 """Faults the service survives, each test asserting that nothing is lost or duplicated: the
-database unreachable for a moment, the storage full, and 200 requests at once. (A worker killed
-mid-job and Redis losing its messages: test_distributed.py.)"""
+database unreachable for a moment, the storage full, 200 requests at once, and an unexpected
+error answered with the connection kept open. (A worker killed mid-job and Redis losing its
+messages: test_distributed.py.)"""
 
 from __future__ import annotations
 
@@ -193,3 +194,49 @@ def test_two_hundred_requests_at_once(tmp_path, catalogue_dir, procs):
     with httpx.Client(base_url=base, timeout=60) as http:
         for job_id in jobs:
             assert wait_job(http, job_id, timeout=600)["status"] == "done"
+
+
+def test_an_unexpected_error_is_a_json_500_and_the_connection_stays_open(tmp_path,
+                                                                          catalogue_dir):
+    """A real server (uvicorn, its HTTP parser) on one keep-alive connection: a route that
+    raises answers 500 in the API's JSON shape, and the next request on the same connection is
+    answered (Starlette's last-resort handler would raise on to the server, which drops the
+    connection unannounced)."""
+    import http.client
+    import json
+
+    import uvicorn
+
+    from catwalk.service.api.app import create_app
+
+    app = create_app(make_config(service_env(tmp_path / "storage", catalogue_dir)),
+                     recovery=False)
+
+    @app.get("/api/boom")
+    async def boom():
+        raise RuntimeError("a bug")
+
+    port = free_port()
+    server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=port, log_config=None,
+                                           access_log=False))
+    thread = threading.Thread(target=server.run, daemon=True)
+    thread.start()
+    try:
+        t0 = time.monotonic()
+        while not server.started:
+            assert time.monotonic() - t0 < 60, "the server did not start"
+            time.sleep(0.05)
+        conn = http.client.HTTPConnection("127.0.0.1", port, timeout=30)
+        for _ in range(2):
+            conn.request("GET", "/api/boom")
+            r = conn.getresponse()
+            body = json.loads(r.read())
+            assert r.status == 500 and body["error"]["code"] == "internal", body
+            assert "a bug" not in json.dumps(body)           # no trace reaches the client
+            conn.request("GET", "/healthz")                  # the same connection
+            ok = conn.getresponse()
+            assert ok.status == 200 and json.loads(ok.read()) == {"status": "ok"}
+        conn.close()
+    finally:
+        server.should_exit = True
+        thread.join(timeout=10)

@@ -1,7 +1,9 @@
 """Security checks, each as an attacker would try it against the API in-process (the embedded
 default) or against the reader the API hands an upload to: file names that climb out of the
 storage, guessed ids, files whose headers lie about their size, uploads far over the limit.
-(Merchant routes and their keys come with the merchants' issue: there are none yet to test.)"""
+A merchant's routes take no file name with a NUL byte and no version number beyond the
+database's; an unexpected error keeps the connection open (a real server: tests/service/
+test_faults.py)."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ import time
 import pytest
 from fastapi.testclient import TestClient
 
-from .helpers import MEASURES, make_config, service_env, storage_files
+from .helpers import MEASURES, REPO, make_config, service_env, storage_files
 
 LIMIT = 3_000_000
 
@@ -164,3 +166,31 @@ def test_an_upload_ten_times_over_the_limit_is_refused_unread(client, storage):
     assert err["code"] == "too_large" and f"{LIMIT:,}" in err["message"]
     assert time.monotonic() - t0 < 5
     assert set(storage_files(storage)) == before
+
+
+def test_a_merchants_paths_take_no_nul_and_no_huge_version(client):
+    from catwalk.service import merchants
+
+    key = merchants.create(client.app.state.config, "prober")
+    auth = {"Authorization": f"Bearer {key}"}
+    skirt = json.loads((REPO / "garments" / "pencil-skirt.json").read_text())
+    for panel in skirt["panels"]:
+        panel.pop("texture", None)
+    r = client.post("/api/merchant/garments", headers=auth, files=[
+        ("garment", ("garment.json", json.dumps(skirt).encode(), "application/json"))])
+    assert r.status_code == 201, r.text
+    gid = r.json()["id"]
+    base = f"/api/merchant/garments/{gid}/versions"
+    assert client.get(f"{base}/1/files/garment.json", headers=auth).status_code == 200
+    for name in ("garment.json%00.png", "garment.json%00", "%00", "a%01b.png"):
+        _refused(client.get(f"{base}/1/files/{name}", headers=auth), 404)
+    for version in ("99999999999999999999999", str(2 ** 31), "0", "-1"):
+        err = _refused(client.get(f"{base}/{version}/dressed/M.glb", headers=auth), 422)
+        assert err["field"] == "version", err
+    for body in ({"version": 1, "nope": 2}, {"version": True}, {"version": "1"},
+                 {"version": 2 ** 40}):
+        err = _refused(client.post(f"/api/merchant/garments/{gid}/publish", headers=auth,
+                                   json=body), 422)
+        assert err["field"] in ("nope", "version"), err
+    _refused(client.post(f"/api/merchant/garments/{gid}/publish", headers={
+        **auth, "content-type": "application/json"}, content=b"[" * 50_000), 400)

@@ -86,6 +86,33 @@ class LimitUploads:
         await send({"type": "http.response.body", "body": body})
 
 
+#: the longest path and query string the API reads (a longer one is answered 414, as JSON);
+#: a request line beyond the HTTP parser's own limit (httptools: about 64 KiB) is refused by
+#: the server before the app, as plain text (docs/api.md)
+MAX_PATH = 4096
+MAX_QUERY = 16384
+
+
+class LimitRequestLine:
+    """A path longer than :data:`MAX_PATH` characters or a query string longer than
+    :data:`MAX_QUERY` bytes is answered 414 in the API's JSON shape, before any route."""
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] == "http":
+            path, query = scope.get("path", ""), scope.get("query_string", b"")
+            what = ("path", len(path), MAX_PATH) if len(path) > MAX_PATH else \
+                ("query string", len(query), MAX_QUERY) if len(query) > MAX_QUERY else None
+            if what is not None:
+                name, size, limit = what
+                body = errors.error_body(414, f"the {name} is {size:,} long; at most "
+                                              f"{limit:,}", code="uri_too_long")
+                return await errors.JSONResponse(body, status_code=414)(scope, receive, send)
+        return await self.app(scope, receive, send)
+
+
 class TimeRequests:
     """ASGI middleware: each request's seconds into ``histogram`` by route template (``/api/
     tryons/{job_id}``, not the id: no personal data, few series), method and status."""
@@ -129,6 +156,10 @@ def _serve_pages(app: FastAPI, root: Path) -> None:
     @app.get("/{path:path}", include_in_schema=False)
     async def page(path: str, request: Request):
         if path.startswith(_NOT_PAGES):
+            allow = errors.allowed_methods(request)
+            if allow:   # an API route answers this path, to another method
+                raise ApiError(405, f"GET is not allowed on /{path[:200]}; allowed: "
+                                    f"{', '.join(allow)}", headers={"Allow": ", ".join(allow)})
             raise ApiError(404, f"no such route: {request.method} /{path}")
         target = (root / path).resolve()
         if path and target.is_file() and target.is_relative_to(root):
@@ -261,7 +292,9 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     _document(app)
     if frontend is not None and (frontend / "index.html").is_file():
         _serve_pages(app, frontend)
+    app.add_middleware(errors.ServerErrors)   # innermost: a 500 keeps the connection
     app.add_middleware(LimitUploads, limit=config.upload_max_bytes,
                        refused=app.state.metrics.refused)
+    app.add_middleware(LimitRequestLine)
     app.add_middleware(TimeRequests, histogram=app.state.metrics.requests)
     return app

@@ -20,12 +20,13 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from starlette.routing import Match
 
 from catwalk.errors import InputError, NotFound
+from catwalk.exchange import source
 
 log = logging.getLogger("catwalk.api")
 
 CODES = {400: "bad_request", 401: "unauthorized", 404: "not_found", 405: "method_not_allowed",
-         409: "conflict", 413: "too_large", 415: "unsupported_media_type", 416: "bad_range",
-         422: "invalid", 503: "unavailable"}
+         409: "conflict", 413: "too_large", 414: "uri_too_long", 415: "unsupported_media_type",
+         416: "bad_range", 422: "invalid", 503: "unavailable"}
 
 
 class UploadTooLarge(Exception):
@@ -55,6 +56,51 @@ def check_id(ident: str, what: str, field: str | None = None) -> str:
     if not isinstance(ident, str) or not _ID.fullmatch(ident):
         raise not_found(what, str(ident), field)
     return ident
+
+
+def parse_json(raw: bytes):
+    """A request body's JSON, or 400 naming what is wrong: not JSON, or nested too deeply
+    (:func:`catwalk.exchange.source.parse_json`: the readers' own limits)."""
+    try:
+        return source.parse_json(raw or b"null", "the request body")
+    except InputError as exc:
+        raise ApiError(400, str(exc)) from None
+
+
+def internal_error(request_path: str) -> JSONResponse:
+    """The 500 for an exception nothing else answered, its trace logged (the request's body and
+    headers never are)."""
+    log.error(json.dumps({"event": "internal_error", "path": request_path,
+                          "trace": traceback.format_exc()[-4000:]}))
+    return _json(500, error_body(500, "internal error; it has been logged", code="internal"))
+
+
+class ServerErrors:
+    """An exception no handler answered becomes the JSON 500 here, inside the app, and the
+    connection stays open: Starlette's own last-resort handler answers too but raises the
+    exception on to the server, which then drops the keep-alive connection without saying so
+    (the client's next request on it is reset)."""
+
+    def __init__(self, app):
+        self.app = app
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            return await self.app(scope, receive, send)
+        started = False
+
+        async def watched(msg):
+            nonlocal started
+            if msg["type"] == "http.response.start":
+                started = True
+            await send(msg)
+
+        try:
+            await self.app(scope, receive, watched)
+        except Exception:
+            if started:   # half a response is out: only the server can end it
+                raise
+            await internal_error(scope.get("path", ""))(scope, receive, send)
 
 
 def error_body(status: int, message: str, field: str | None = None,
@@ -158,7 +204,4 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(Exception)
     async def _unexpected(request: Request, exc: Exception):
-        log.error(json.dumps({"event": "internal_error", "path": request.url.path,
-                              "trace": traceback.format_exc()[-4000:]}))
-        return _json(500, error_body(500, "internal error; it has been logged",
-                                     code="internal"))
+        return internal_error(request.url.path)

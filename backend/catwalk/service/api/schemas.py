@@ -29,9 +29,17 @@ def _range(key: str, what: str):
     return Field(ge=lo, le=hi, description=f"{what}, metres ({lo}–{hi})")
 
 
+#: what a request's JSON is held to: no unknown keys, and a number is a number (not "1.68",
+#: not true)
+STRICT = ConfigDict(extra="forbid", strict=True)
+#: the largest version number a route takes (a 32-bit integer, the database's)
+MAX_VERSION = 2 ** 31 - 1
+Version = Annotated[int, Path(ge=1, le=MAX_VERSION, description="a version number")]
+
+
 class Measurements(BaseModel):
     """A body from measurements (metres)."""
-    model_config = ConfigDict(extra="forbid")
+    model_config = STRICT
     sex: Literal["female", "male"]
     height: float = _range("height", "stature")
     bust: float = _range("bust", "bust (women) or chest (men) girth")
@@ -55,7 +63,7 @@ class Body(BaseModel):
 
 
 class TryOnRequest(BaseModel):
-    model_config = ConfigDict(extra="forbid")
+    model_config = STRICT
     body_id: str = Field(description="the body's id (unknown or malformed: 404)",
                          json_schema_extra={"pattern": ID_PATTERN})
     garment_id: str = Field(description="a catalogue garment's id")
@@ -243,6 +251,13 @@ CONDITIONAL_HEADERS = {"parameters": FILE_HEADERS["parameters"][2:]}
 
 
 # ------------------------------------------------------------------------------ merchants
+
+class PublishRequest(BaseModel):
+    """``POST …/publish``'s body (or none: the latest version)."""
+    model_config = STRICT
+    version: int | None = Field(None, ge=1, le=MAX_VERSION,
+                                description="the version to publish (default: the latest)")
+
 
 class Merchant(BaseModel):
     name: str

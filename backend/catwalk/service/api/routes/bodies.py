@@ -21,7 +21,7 @@ from catwalk.errors import InputError
 from catwalk.exchange.scan import sniff_format
 from catwalk.service import bodies
 from catwalk.service.api import deps, schemas
-from catwalk.service.api.errors import ApiError, UploadTooLarge, check_id, not_found
+from catwalk.service.api.errors import ApiError, UploadTooLarge, check_id, not_found, parse_json
 from catwalk.service.api.files import file_response
 from catwalk.service.body_maker import make_from_measurements, make_from_scan
 from catwalk.service.jobs import lifecycle as jobs
@@ -52,11 +52,7 @@ def _get_row(config: Config, body_id: str) -> BodyRow:
 
 
 async def _measurements(request: Request) -> schemas.Measurements:
-    raw = await request.body()
-    try:
-        data = json.loads(raw or b"null")
-    except (UnicodeDecodeError, ValueError):
-        raise ApiError(400, "the request body is not valid JSON") from None
+    data = parse_json(await request.body())
     if not isinstance(data, dict):
         raise ApiError(422, "measurements are a JSON object {\"sex\", \"height\", \"bust\", "
                             "\"waist\", \"hips\"} in metres")

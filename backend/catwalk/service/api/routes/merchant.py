@@ -16,6 +16,7 @@ import mimetypes
 
 from fastapi import APIRouter, Depends, Request
 from fastapi.responses import JSONResponse, Response
+from pydantic import ValidationError
 
 from catwalk.config import Config
 from catwalk.errors import InputError
@@ -24,7 +25,7 @@ from catwalk.exchange.garment_json import garment_to_dict
 from catwalk.service import merchant_garments as mg
 from catwalk.service import merchants
 from catwalk.service.api import deps, schemas
-from catwalk.service.api.errors import ApiError, UploadTooLarge, error_body
+from catwalk.service.api.errors import ApiError, UploadTooLarge, error_body, parse_json
 from catwalk.service.api.files import file_response
 from catwalk.service.jobs.app import send_check
 
@@ -211,22 +212,23 @@ async def publish_garment(garment_id: str, request: Request,
     raw = await request.body()
     version = None
     if raw.strip():
-        try:
-            body = json.loads(raw)
-        except (UnicodeDecodeError, ValueError):
-            raise ApiError(400, "the request body is not valid JSON") from None
+        body = parse_json(raw)
         if not isinstance(body, dict):
             raise ApiError(422, "the body is {\"version\": n} or empty", "version")
-        version = body.get("version")
-        if version is not None and (not isinstance(version, int) or isinstance(version, bool)
-                                    or version < 1):
-            raise ApiError(422, f"version is a version number ≥ 1, not {version!r}", "version")
+        try:
+            version = schemas.PublishRequest.model_validate(body).version
+        except ValidationError as exc:
+            e = exc.errors()[0]
+            field = ".".join(str(p) for p in e.get("loc", ())) or None
+            raise ApiError(422, f"{field}: {e['msg']}" if field else e["msg"], field) from None
     out = await _own(mg.publish, config, who.id, garment_id, version)
     await asyncio.to_thread(catalogue.entries, recheck=True)
     return out
 
 
 def _version_path(config, storage, who, garment_id: str, version: int, *parts: str):
+    if any(not p.isprintable() for p in parts):   # a NUL or control character names no file
+        raise LookupError(garment_id)
     folder = mg.version_folder(config, storage, who.id, garment_id, version)
     path = folder.joinpath(*parts).resolve()
     if not path.is_relative_to(folder.resolve()) or not path.is_file():
@@ -238,7 +240,7 @@ def _version_path(config, storage, who, garment_id: str, version: int, *parts: s
             response_class=Response,
             responses={**schemas.file_responses("model/gltf-binary"),
                        **schemas.errors(401, 404)})
-async def dressed(garment_id: str, version: int, size: str, request: Request,
+async def dressed(garment_id: str, version: schemas.Version, size: str, request: Request,
                   config: Config = Depends(deps.config), storage=Depends(deps.storage),
                   who=Depends(merchant)):
     """The size dressed on its sample body by the version's check (404 until it is made)."""
@@ -256,7 +258,7 @@ async def dressed(garment_id: str, version: int, size: str, request: Request,
 @router.get("/garments/{garment_id}/versions/{version}/files/{name:path}",
             response_class=Response, responses={**schemas.file_responses("image/png"),
                                                 **schemas.errors(401, 404)})
-async def version_file(garment_id: str, version: int, name: str, request: Request,
+async def version_file(garment_id: str, version: schemas.Version, name: str, request: Request,
                        config: Config = Depends(deps.config), storage=Depends(deps.storage),
                        who=Depends(merchant)):
     """A file of the version: ``garment.json`` or a texture it names."""
