@@ -89,6 +89,18 @@ def test_a_tryon_end_to_end_then_cached_without_a_worker(embedded, procs, catalo
         assert head.status_code == 200 and head.content == b""
         assert int(head.headers["content-length"]) == len(web.content)
         assert "body_id" not in done   # a shared try-on id does not open the body
+        # nor the person's measurements: no file a try-on id unlocks carries them
+        for doc in (glb_json(plain.content), glb_json(web.content), done["metrics"]):
+            keys, todo = set(), [doc]
+            while todo:
+                node = todo.pop()
+                if isinstance(node, dict):
+                    keys |= set(node)
+                    todo += list(node.values())
+                elif isinstance(node, list):
+                    todo += node
+            assert not keys & {"requested", "measured", "sex", "measurements"}, keys
+            assert "female" not in json.dumps(doc)
         png = client.get(done["preview_url"])
         assert png.status_code == 200 and png.content[:4] == b"\x89PNG"
         # the worker wrote its stage timings; the metrics see the job and the worker

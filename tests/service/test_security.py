@@ -194,3 +194,26 @@ def test_a_merchants_paths_take_no_nul_and_no_huge_version(client):
         assert err["field"] in ("nope", "version"), err
     _refused(client.post(f"/api/merchant/garments/{gid}/publish", headers={
         **auth, "content-type": "application/json"}, content=b"[" * 50_000), 400)
+
+
+def test_a_deleted_bodys_measurements_leave_no_readable_trace(client, storage):
+    """As a probe would: after DELETE, read every file of the storage folder (the embedded
+    database, its write-ahead log and shared memory, every blob) byte by byte for the
+    measurements sent — as text (the JSON column) and as SQLite's big-endian doubles; and no
+    file or folder of it is readable by another user."""
+    values = {"sex": "female", "height": 1.6789, "bust": 0.9123, "waist": 0.7345, "hips": 0.9876}
+    made = client.post("/api/bodies", json=values)
+    assert made.status_code == 201, made.text
+    needles = [repr(v).encode() for k, v in values.items() if k != "sex"]
+    needles += [struct.pack(">d", v) for k, v in values.items() if k != "sex"]
+    files = [p for p in storage.rglob("*") if p.is_file()]
+    assert any(n in p.read_bytes() for p in files for n in needles), "the probe finds nothing"
+    assert storage.stat().st_mode & 0o077 == 0, oct(storage.stat().st_mode)
+    for p in files:
+        if p.name.startswith("catwalk.sqlite3"):
+            assert p.stat().st_mode & 0o077 == 0, (p.name, oct(p.stat().st_mode))
+    assert client.delete(f"/api/bodies/{made.json()['id']}").status_code == 204
+    for p in (p for p in storage.rglob("*") if p.is_file()):
+        data = p.read_bytes()
+        found = [n for n in needles if n in data]
+        assert not found, (p.relative_to(storage), found)

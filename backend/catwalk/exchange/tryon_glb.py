@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import io
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -232,10 +233,23 @@ def add_garment(builder: GlbBuilder, garment: GarmentFrames, animation: int | No
     return nodes
 
 
+#: the body's metadata a try-on's file keeps: where the body model came from and how it was
+#: skinned, never the person's measurements or sex (a try-on's file is reachable by its id
+#: alone; the body's own .glb keeps them)
+SHARED_META = ("source", "skin")
+
+
+def shared_body(body: Body) -> Body:
+    """The body as a try-on's file shows it: its mesh, rig and landmarks, its metadata cut to
+    :data:`SHARED_META`."""
+    return replace(body, meta={k: v for k, v in body.meta.items() if k in SHARED_META})
+
+
 def build_tryon(body: Body, motion: Motion | None, garments: list[GarmentFrames], *,
                 extras: dict | None = None, normals: bool = True) -> GlbBuilder:
     """The try-on scene in a :class:`GlbBuilder` (not yet written); ``normals``: the
-    garments' per-frame NORMAL targets (:func:`add_garment`)."""
+    garments' per-frame NORMAL targets (:func:`add_garment`). The body's measurements stay
+    out of it (:func:`shared_body`)."""
     names = [gm.name for gm in garments]
     if len(set(names)) != len(names):
         raise InputError(f"garment names must be unique, got {names}")
@@ -244,7 +258,7 @@ def build_tryon(body: Body, motion: Motion | None, garments: list[GarmentFrames]
     if any("#" in n for n in names):
         raise InputError(f"garment names cannot contain '#' (it numbers the chunks): {names}")
     b = GlbBuilder()
-    _, joint_nodes = add_body(b, body)
+    _, joint_nodes = add_body(b, shared_body(body))
     clip = None
     if motion is not None:
         if body.skeleton is None:

@@ -63,7 +63,8 @@ def add(config: Config, row: BodyRow) -> None:
 def delete(config: Config, storage: Storage, body_id: str) -> int:
     """Delete the body, its scan, every try-on made from it and their results (those no other
     body shares); a running try-on of it stops. The files first: a crash half-way leaves a row
-    to delete again, not a scan without a row. Returns the results removed."""
+    to delete again, not a scan without a row; then the database's log emptied
+(:func:`~catwalk.service.store.db.forget`). Returns the results removed."""
     storage.remove_body(body_id)
     orphaned = lifecycle.delete_for_body(config, body_id)
     for key in orphaned:
@@ -72,5 +73,6 @@ def delete(config: Config, storage: Storage, body_id: str) -> int:
         row = s.get(BodyRow, body_id)
         if row is not None:
             s.delete(row)
+    db.forget(config)   # nothing of the row left in SQLite's log either
     log.info(json.dumps({"event": "body_deleted", "body": body_id, "results": len(orphaned)}))
     return len(orphaned)

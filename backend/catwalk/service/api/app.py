@@ -253,7 +253,7 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     @contextlib.asynccontextmanager
     async def lifespan(app: FastAPI):
         db.migrate(config)
-        app.state.storage.root.mkdir(parents=True, exist_ok=True)
+        app.state.storage.ensure()
         swept = app.state.storage.sweep()   # what a process killed mid-write left
         if swept:
             log.info(json.dumps({"event": "swept", "leftovers": swept}))

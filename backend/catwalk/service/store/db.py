@@ -46,6 +46,26 @@ def _sqlite_pragmas(dbapi_conn, _record) -> None:
     cur.close()
 
 
+def _private_file(path: Path) -> None:
+    """The embedded database's file made before SQLite opens it, readable by the service's
+    user only (SQLite gives its -wal and -shm files the database file's mode)."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    os.close(os.open(path, os.O_CREAT | os.O_RDWR, 0o600))
+    os.chmod(path, 0o600)
+
+
+def forget(config: Config) -> None:
+    """After a deletion: SQLite's write-ahead log still holds the pages a deleted row was
+    written in (``secure_delete`` zeroes the database's own copy); a TRUNCATE checkpoint
+    copies the log into the database and empties it. PostgreSQL: docs/operations.md ("What
+    deletion guarantees")."""
+    if not config.db_url.startswith("sqlite"):
+        return
+    eng, _ = engine_for(config.db_url)
+    with eng.connect() as conn:
+        conn.exec_driver_sql("PRAGMA wal_checkpoint(TRUNCATE)")
+
+
 def engine_for(url: str) -> tuple[Engine, sessionmaker]:
     """This process's engine and session factory for ``url``."""
     key = (os.getpid(), url)
@@ -55,7 +75,7 @@ def engine_for(url: str) -> tuple[Engine, sessionmaker]:
             if url.startswith("sqlite"):
                 path = url.split("///", 1)[-1]
                 if path and path != ":memory:":
-                    Path(path).parent.mkdir(parents=True, exist_ok=True)
+                    _private_file(Path(path))
                 eng = create_engine(url, connect_args={"check_same_thread": False,
                                                        "timeout": 30}, hide_parameters=True)
                 event.listen(eng, "connect", _sqlite_pragmas)

@@ -13,6 +13,7 @@ Layout under ``CATWALK_STORAGE_DIR``::
     garments/<id>/<n>/dressed/<size>.glb   its dressing check on the size's sample body
     samples/<name>.glb                 sample bodies (thumbnails are dressed on them)
 
+The folder is the service's user's alone (0700, :meth:`Storage.ensure`), its files 0600.
 Nothing half-written is ever visible: a file is written to a temporary name beside it and
 renamed; a result folder is filled under a temporary name and renamed into place whole (the
 first one to arrive stays: a result is stored exactly once).
@@ -123,9 +124,17 @@ class Storage:
     def remove_body(self, body_id: str) -> None:
         shutil.rmtree(self.body_dir(body_id), ignore_errors=True)
 
-    def check(self) -> None:
-        """Raise OSError if the storage folder cannot be written."""
+    def ensure(self) -> None:
+        """The storage folder made, and private: 0700, so that nothing under it — scans,
+        bodies, results, the embedded database — can be read by another user of the machine,
+        whatever a file's own mode."""
         self.root.mkdir(parents=True, exist_ok=True)
+        os.chmod(self.root, 0o700)
+
+    def check(self) -> None:
+        """The storage folder made private (:meth:`ensure`); raise OSError if it cannot be
+        written."""
+        self.ensure()
         fd, name = tempfile.mkstemp(prefix=".ready-", dir=self.root)
         os.close(fd)
         with contextlib.suppress(FileNotFoundError):
