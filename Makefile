@@ -13,7 +13,7 @@ FRONT_SRC := $(shell find frontend -path frontend/node_modules -prune -o -path f
 PYTEST_ARGS ?=
 DEMO_GARMENT ?= dress
 
-.PHONY: install demo test lint bodies clean services browser
+.PHONY: install demo test lint bodies clean services browser fuzz
 
 install: $(STAMP) $(NODE_STAMP) $(FS_STAMP) $(FRONT_DIST)
 	$(CATWALK) assets
@@ -56,6 +56,13 @@ browser:
 test: install lint services browser
 	cd frontend && npm test --silent
 	$(VENV)/bin/pytest -q $(PYTEST_ARGS)
+
+# the fuzzers deeper than `make test` runs them: FUZZ_EXAMPLES inputs per file reader
+# (tests/fuzz) and examples per API operation (schemathesis, tests/service/test_schema_fuzz.py)
+FUZZ_EXAMPLES ?= 10000
+fuzz: install services
+	CATWALK_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(VENV)/bin/pytest -q tests/fuzz \
+		tests/service/test_schema_fuzz.py
 
 bodies: install
 	$(CATWALK) bodies build
