@@ -136,12 +136,12 @@ def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
             lo = (1 - alpha) * b[0:3] + alpha * b[6:9]
             hi = (1 - alpha) * b[3:6] + alpha * b[9:12]
             want = np.sum(np.maximum(np.maximum(lo - p, p - hi), 0.0) ** 2)
-            assert np.isclose(B._box_d2(*p, nbl, nd), want, rtol=1e-12, atol=1e-18)
+            assert np.isclose(B.box_d2(*p, nbl, nd), want, rtol=1e-12, atol=1e-18)
             # (the centre is summed in float32, as the node boxes are kept)
             np.testing.assert_allclose(nbl[nd, 6:9], 0.5 * (lo + hi), rtol=0, atol=1e-6)
             c = p - alpha * r
             lo = np.minimum(b[0:3], b[6:9] - r)
             hi = np.maximum(b[3:6], b[9:12] - r)
             want = np.sum(np.maximum(np.maximum(lo - c, c - hi), 0.0) ** 2)
-            assert np.isclose(B._swept_d2(*c, nbl, nd), want, rtol=1e-12, atol=1e-18)
+            assert np.isclose(B.swept_d2(*c, nbl, nd), want, rtol=1e-12, atol=1e-18)
             assert nbl[nd, 15] == nb[nd, 12]

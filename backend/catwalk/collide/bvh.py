@@ -393,7 +393,7 @@ def swept_boxes(nb, ref, first, last, nbl):
     """Nodes [first, last) (one part) over the frame, once it is refitted: the boxes swept
     over it in the frame moving by ``ref`` (``nbl[:, 9:15]``: no triangle of the node comes
     nearer, at any time of the frame, to a point's position in that moving frame;
-    :func:`_swept_d2`) and the speeds (``nb[:, 12]`` → ``nbl[:, 15]``)."""
+    :func:`swept_d2`) and the speeds (``nb[:, 12]`` → ``nbl[:, 15]``)."""
     for nd in range(first, last):
         for q in range(3):
             nbl[nd, 9 + q] = min(nb[nd, q], nb[nd, 6 + q] - ref[q])
@@ -402,7 +402,7 @@ def swept_boxes(nb, ref, first, last, nbl):
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
-def _box_d2(px, py, pz, nbl, nd):
+def box_d2(px, py, pz, nbl, nd):
     """Squared distance from p to node nd's box at the table's time (:func:`blend_at`: the
     blend of its two frames' boxes, which holds every triangle of the node at that time).
     Branch-free (max/min selects): the walks' box tests are otherwise bound by mispredicted
@@ -414,7 +414,7 @@ def _box_d2(px, py, pz, nbl, nd):
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
-def _swept_d2(mx, my, mz, nbl, nd):
+def swept_d2(mx, my, mz, nbl, nd):
     """Squared distance from the point (mx, my, mz), given in the frame moving with the
     reference displacement (p − alpha·ref for p at time alpha), to node nd's box swept over
     the frame (:func:`swept_boxes`; branch-free)."""
@@ -428,7 +428,7 @@ def _swept_d2(mx, my, mz, nbl, nd):
 def blend_at(vp, nb, first, last, vidx, alpha, nbl, vpl):
     """One part's pose at time ``alpha`` of the frame, as :func:`closest_triangle_t` reads
     it: its nodes [first, last) in ``nbl`` (:data:`NODE_COLUMNS`) — the box blended between
-    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`_box_d2`) and its centre (6–8, by which
+    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`box_d2`) and its centre (6–8, by which
     the walk orders a node's children) — and its vertices ``vidx`` in ``vpl`` (N,3), blended
     between the two frames' positions in ``vp`` (N,6). Blended once for the many searches
     at one time (the object pass's at one substep) instead of inside every node visit and
@@ -465,7 +465,7 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
     pruned).
 
     ``spd`` (2,) accumulates, for the point's speed bound after the search (see
-    :func:`catwalk.collide.kernels.object_pass`): spd[0] the max over pruned nodes of
+    :func:`catwalk.collide.kernels.object_space.object_pass`): spd[0] the max over pruned nodes of
     m − d·``inv_t`` (m the node's speed ``nb[:, 12]``, d its box distance now, inv_t 1 / the
     rest of the frame), spd[1] the max speed of the leaves visited."""
     stack[0] = root
@@ -481,9 +481,9 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
         sp -= 1
         nd = stack[sp]
         visited += 1
-        d = _box_d2(px, py, pz, nbl, nd)
+        d = box_d2(px, py, pz, nbl, nd)
         if d >= best_d2:
-            ds = _swept_d2(mx, my, mz, nbl, nd)
+            ds = swept_d2(mx, my, mz, nbl, nd)
             if ds < frame_d2:
                 frame_d2 = ds
             sv = nbl[nd, 15] - math.sqrt(d) * inv_t
@@ -512,7 +512,7 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
                 stack[sp + 1] = r
             sp += 2
             continue
-        ds = _swept_d2(mx, my, mz, nbl, nd)
+        ds = swept_d2(mx, my, mz, nbl, nd)
         if ds < frame_d2:
             frame_d2 = ds
         if nbl[nd, 15] > spd[1]:
@@ -570,7 +570,7 @@ STACK_SIZE = 128
 @numba.njit(cache=True, _nrt=False)
 def swept_lower(mx, my, mz, nbl, links, root, bound2, stack):
     """A lower bound, for the whole frame and in the frame moving by the reference
-    displacement (the point (mx, my, mz) given in it, as :func:`_swept_d2`), of the squared
+    displacement (the point (mx, my, mz) given in it, as :func:`swept_d2`), of the squared
     distance from the point to every triangle of one part's hierarchy: the nearest leaf box
     swept over the frame (:func:`swept_boxes`), or ``bound2`` if none is nearer (nodes are
     pruned there). No triangle is tested. Returns (bound, nodes visited)."""
@@ -582,7 +582,7 @@ def swept_lower(mx, my, mz, nbl, links, root, bound2, stack):
         sp -= 1
         nd = stack[sp]
         visited += 1
-        d = _swept_d2(mx, my, mz, nbl, nd)
+        d = swept_d2(mx, my, mz, nbl, nd)
         if d >= best:
             continue
         if links[nd, 0] < 0:

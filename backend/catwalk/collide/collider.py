@@ -27,7 +27,9 @@ import numpy as np
 from catwalk.body.types import PART_NAMES, PART_TORSO
 from catwalk.cloth.state import PLANE_COLUMNS
 from catwalk.collide import bvh as B
-from catwalk.collide import kernels as K
+from catwalk.collide.kernels.boxes import bounds
+from catwalk.collide.kernels.object_space import Workspace
+from catwalk.collide.kernels.stats import N_STATS
 from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
 from catwalk.errors import InputError
 from catwalk.geometry.raster import incident_faces, vertex_normals, vertex_normals_kernel
@@ -119,13 +121,13 @@ class Substep(NamedTuple):
     final: bool = False
 
 
-def _workspace(stats: np.ndarray | None = None) -> K.Workspace:
+def _workspace(stats: np.ndarray | None = None) -> Workspace:
     """A thread's scratch for the object passes (the kernels never allocate): the
     hierarchy walk's stack, the part reach, two scratch arrays, and its counters (``stats``,
     or new ones)."""
-    return K.Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
+    return Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
                        np.zeros((1, 54), np.float32),
-                       np.zeros(K.N_STATS, np.int64) if stats is None else stats)
+                       np.zeros(N_STATS, np.int64) if stats is None else stats)
 
 
 def face_parts(faces, parts) -> np.ndarray:
@@ -215,7 +217,7 @@ class Collider:
         self.map_region_pad = float(map_region_pad)
         self.leaf_size = int(leaf_size)
         # a point near its closest part may be inside another one (cloth pinched between a
-        # hand and the thigh, an arm and the torso): look for it (kernels._second_surface)
+        # hand and the thigh, an arm and the torso): look for it (kernels.second_surface)
         self.second_surface = bool(second_surface)
         self.skips = skips or Skips()
         # the parts in the depth maps, in hierarchies, with a hierarchy: the mode's (_use_parts)
@@ -224,16 +226,16 @@ class Collider:
         self._object_pass = None   # object_pass.ObjectPass: the hierarchies, for hier_parts
         self._init_frames()
         # with threads > 1 the object passes run over slices of the points at once, each
-        # thread with its own workspaces (kernels.object_pass; the image pass stays on the
-        # calling thread)
+        # thread with its own workspaces (kernels.object_space.object_pass; the image pass
+        # stays on the calling thread)
         self.threads = int(threads)
         self._pool = None
         self._thread_ws = [_workspace() for _ in range(self.threads - 1)]
-        self.stats = np.zeros(K.N_STATS, np.int64)
+        self.stats = np.zeros(N_STATS, np.int64)
         self._ws = _workspace(self.stats)   # the calling thread's
         # (P, 8) after each resolve: the contact planes of the held points and of those within
         # plane_band of the surface (normal, offset, the body's velocity, friction; normal 0
-        # for the others), see kernels.record_plane
+        # for the others), see kernels.response.record_plane
         self.planes = np.zeros((0, PLANE_COLUMNS))
         self.timings = Timings()
         self._first_v = None          # the first pose given to update()
@@ -390,8 +392,8 @@ class Collider:
             return held
         lo = np.full(3, np.inf)
         hi = np.full(3, -np.inf)
-        K.bounds(pos, lo, hi)
-        K.bounds(prev, lo, hi)
+        bounds(pos, lo, hi)
+        bounds(prev, lo, hi)
         self._resolve(Substep(pos, vel, prev, alpha, alpha_prev, lo, hi, bool(final)), held)
         return held
 

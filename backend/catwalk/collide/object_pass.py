@@ -1,21 +1,30 @@
 """Object space: the parts' hierarchies over a body frame (built from the first pose, refitted
 per frame, :mod:`catwalk.collide.bvh`) and the pass that finds each cloth point's closest
-triangle in them (:class:`ObjectPass`, over :func:`catwalk.collide.kernels.object_pass`), with
-what it keeps per point between calls (:class:`PointState`); the method is in
-:mod:`catwalk.collide`."""
+triangle in them (:class:`ObjectPass`, over
+:func:`catwalk.collide.kernels.object_space.object_pass`), with what it keeps per point between
+calls (:class:`PointState`); the method is in :mod:`catwalk.collide`."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from catwalk.collide import bvh as B
-from catwalk.collide import kernels as K
 from catwalk.collide.collider import N_PARTS, Substep, cpu_time
+from catwalk.collide.kernels.boxes import body_motion, bounds_of
+from catwalk.collide.kernels.object_space import (
+    ObjectBody,
+    ObjectConfig,
+    ObjectPoints,
+    ObjectTime,
+    object_pass,
+)
+from catwalk.collide.kernels.record import pack_body
+from catwalk.collide.kernels.stats import ST_SKIPPED
 
 
 class PointState:
     """What the object pass keeps per cloth point between calls (see
-    :func:`catwalk.collide.kernels.object_pass`), for one set of parts."""
+    :func:`catwalk.collide.kernels.object_space.object_pass`), for one set of parts."""
 
     def __init__(self, n: int):
         self.n = n
@@ -41,7 +50,7 @@ class PointState:
         self.clear_frame = -1
         # the per-point arrays as the object pass takes them (a plain tuple, as its other
         # groups: see ObjectPass.run)
-        self.arrays = tuple(K.ObjectPoints(
+        self.arrays = tuple(ObjectPoints(
             self.cache_tri, self.cache_p, self.cache_c, self.clear, self.clear_rel, self.rkey,
             self.rec, self.pspeed, self.pstamp, self.last, self.pclk, self.csw, self.crel,
             self.cstamp, self.ct2, self.cp2, self.cc2, self.left))
@@ -115,11 +124,11 @@ class ObjectPass:
             self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
             self._nbl = np.zeros((self.tree.n_nodes, B.NODE_COLUMNS))
             h = self.tree
-            self._body = tuple(K.ObjectBody(self._vb, self._vp, col.faces, col.face_part,
+            self._body = tuple(ObjectBody(self._vb, self._vp, col.faces, col.face_part,
                                             self._nb, h.links, h.tris, h.root, self._lf,
                                             self._nbl, self._vpl))
         # the frame's motion, for the clocks (packing, later, finds the same values)
-        self._body_speed = K.body_motion(col.v0, col.v1, self._tree_vidx, self._ref)
+        self._body_speed = body_motion(col.v0, col.v1, self._tree_vidx, self._ref)
 
     def reach(self, col, lo, hi):
         """The parts whose swept box (dilated) reaches the cloth's box [lo, hi] (all of them
@@ -148,8 +157,8 @@ class ObjectPass:
             # a cheap bound without refitting: the part's vertices at both frames
             plo = np.full(3, np.inf)
             phi = np.full(3, -np.inf)
-            K.bounds_of(col.v0, vi, plo, phi)
-            K.bounds_of(col.v1, vi, plo, phi)
+            bounds_of(col.v0, vi, plo, phi)
+            bounds_of(col.v1, vi, plo, phi)
             plo -= pad
             phi += pad
             if np.any(plo > hi) or np.any(phi < lo):
@@ -162,7 +171,7 @@ class ObjectPass:
             return
         col._ensure_normals()
         t = cpu_time()
-        self._body_speed = K.pack_body(col.v0, col.v1, col.n0, col.n1, col.w0, col.w1,
+        self._body_speed = pack_body(col.v0, col.v1, col.n0, col.n1, col.w0, col.w1,
                                        self._tree_vidx, self._vb, self._vp, self._ref)
         self._packed_frame = col._frame
         col.timings.normals += cpu_time() - t
@@ -217,11 +226,11 @@ class ObjectPass:
         looks at them again, :class:`~catwalk.collide.collider.Substep` ``final``): each is
         searched afresh (no kept triangle reused); one found outside is left as it is, one
         behind a surface facing the one it was pushed off goes between the two
-        (:func:`catwalk.collide.kernels._fold`)."""
+        (:func:`catwalk.collide.kernels.second_surface.fold`)."""
         n = len(s.pos)
         if not active.any():
             if len(only) == 0:
-                col.stats[K.ST_SKIPPED] += n
+                col.stats[ST_SKIPPED] += n
             return pts
         self._refit(col, active)
         if pts is None or pts.n != n:
@@ -240,10 +249,10 @@ class ObjectPass:
         # the groups go to the kernel as plain tuples (it unpacks them by position): numba
         # types a named tuple ≈ 6 µs slower a call, and a walk frame makes 30–240 calls; the
         # body's and the points' are made once (their arrays change in place)
-        now = tuple(K.ObjectTime(s.alpha, s.alpha_prev, col._frame, self._ref, ck,
+        now = tuple(ObjectTime(s.alpha, s.alpha_prev, col._frame, self._ref, ck,
                                  self._body_speed))
         body = self._body
-        cfg = tuple(K.ObjectConfig(col.thickness, col.friction, col.contact_slack,
+        cfg = tuple(ObjectConfig(col.thickness, col.friction, col.contact_slack,
                                    col.search_radius, col.max_depth,
                                    col.skips.far_points or bool((col._present & ~active).any()),
                                    col.skips.reuse_closest and not recheck, col.reuse_tol,
@@ -252,7 +261,7 @@ class ObjectPass:
         arrays = pts.arrays
 
         def points(start, stop, stack, reach, spd, rec2, stats):
-            K.object_pass(s.pos, s.vel, s.prev, held, col.planes, only, active, s.lo, s.hi,
+            object_pass(s.pos, s.vel, s.prev, held, col.planes, only, active, s.lo, s.hi,
                           now, body, cfg, arrays, (stack, reach, spd, rec2, stats), start, stop)
 
         col._split(points, n, only)
