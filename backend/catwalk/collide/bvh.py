@@ -24,13 +24,41 @@ import numpy as np
 
 from catwalk.geometry.triangles import closest_on_triangle
 
+#: the body's vertex positions at both frames (``vp`` (N, VP_COLUMNS) float32, which the
+#: hierarchies are refitted from): the previous frame's xyz (VP_X0) and the current one's (VP_X1)
+VP_X0, VP_X1 = 0, 3
+VP_COLUMNS = 6
+#: a box's columns (``Hierarchy.bounds`` rows, the build's): lo xyz, hi xyz
+BOX_LO, BOX_HI = 0, 3
+#: a node's links (``Hierarchy.links`` rows, int64): its children (−1 in a leaf) and a leaf's
+#: slice of ``tris``
+LINK_LEFT, LINK_RIGHT, LINK_START, LINK_COUNT = 0, 1, 2, 3
+#: the nodes' boxes refitted at both frames (``nb`` (K, NB_COLUMNS) float32, :func:`refit_frame`):
+#: lo and hi at the previous frame (NB_LO0, NB_HI0) and at the current one (NB_LO1, NB_HI1: a
+#: frame's box starts at NB_FRAME × its index), the node's speed (NB_SPEED,
+#: :func:`node_speeds`); 13–15 unused
+NB_LO0, NB_HI0, NB_LO1, NB_HI1, NB_SPEED = 0, 3, 6, 9, 12
+NB_FRAME = 6
+NB_COLUMNS = 16
+#: the nodes' table the searches read (``nbl`` (K, NODE_COLUMNS) float64): the box at the
+#: search's time (lo NL_LO, hi NL_HI) and its centre (NL_CENTRE), by :func:`blend_at`; the box
+#: swept over the frame in the frame moving with the reference displacement (NL_SWEPT_LO,
+#: NL_SWEPT_HI) and the node's speed (NL_SPEED), by :func:`swept_boxes`
+NL_LO, NL_HI, NL_CENTRE, NL_SWEPT_LO, NL_SWEPT_HI, NL_SPEED = 0, 3, 6, 9, 12, 15
+NODE_COLUMNS = 16
+#: a search's speed accumulators (``spd`` (2,), :func:`closest_triangle_t`): the max over the
+#: nodes pruned of their speed less their distance over the rest of the frame, and the max
+#: speed of the leaves visited
+SPD_PRUNED, SPD_LEAVES = 0, 1
+
 
 @dataclass
 class Hierarchy:
     """Flat arrays for several parts' hierarchies.
 
-    ``bounds`` (K,6) node boxes (lo xyz, hi xyz); ``links`` (K,4) (left, right, start, count):
-    children (−1 in leaves) and a leaf's slice of ``tris`` (global face indices);
+    ``bounds`` (K,6) node boxes (:data:`BOX_LO`, :data:`BOX_HI`); ``links`` (K,4)
+    (:data:`LINK_LEFT`, right, start, count): children (−1 in leaves) and a leaf's slice of
+    ``tris`` (global face indices);
     ``root[p]``/``end[p]``: part p's node range [root, end) (root = end when the part has no
     hierarchy); ``dup``: triangle references / triangles (duplication across split planes)."""
 
@@ -47,7 +75,7 @@ class Hierarchy:
 
     @property
     def left(self) -> np.ndarray:
-        return self.links[:, 0]
+        return self.links[:, LINK_LEFT]
 
 
 def build(vertices, faces, part_faces: dict, leaf_size: int = 8, max_depth: int = 30,
@@ -89,9 +117,10 @@ def build(vertices, faces, part_faces: dict, leaf_size: int = 8, max_depth: int 
                 break
             cap *= 2
         links = links[:nn].copy()
-        inner = links[:, 0] >= 0
-        links[inner, :2] += n_nodes
-        links[~inner, 2] += n_refs
+        inner = links[:, LINK_LEFT] >= 0
+        links[inner, LINK_LEFT] += n_nodes
+        links[inner, LINK_RIGHT] += n_nodes
+        links[~inner, LINK_START] += n_refs
         bounds_l.append(bounds[:nn])
         links_l.append(links)
         tris_l.append(tris[:nr])
@@ -126,13 +155,13 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
     st_start[0] = 0
     st_len[0] = n
     for q in range(3):
-        st_box[0, q] = np.inf
-        st_box[0, 3 + q] = -np.inf
+        st_box[0, BOX_LO + q] = np.inf
+        st_box[0, BOX_HI + q] = -np.inf
     for k in range(n):
         t = ids[k]
         for q in range(3):
-            st_box[0, q] = min(st_box[0, q], tlo[t, q])
-            st_box[0, 3 + q] = max(st_box[0, 3 + q], thi[t, q])
+            st_box[0, BOX_LO + q] = min(st_box[0, BOX_LO + q], tlo[t, q])
+            st_box[0, BOX_HI + q] = max(st_box[0, BOX_HI + q], thi[t, q])
     st_depth[0] = 0
     st_parent[0] = -1
     sp = 1
@@ -154,26 +183,26 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
         if sp > 0:
             top = max(top, st_start[sp - 1] + st_len[sp - 1])
         for q in range(3):
-            blo[q] = st_box[sp, q]
-            bhi[q] = st_box[sp, 3 + q]
+            blo[q] = st_box[sp, BOX_LO + q]
+            bhi[q] = st_box[sp, BOX_HI + q]
         if nn >= bounds.shape[0]:
             return -1, -1
         idx = nn
         nn += 1
         if parent >= 0:
-            links[parent, 1] = idx
+            links[parent, LINK_RIGHT] = idx
         for q in range(3):
-            bounds[idx, q] = np.inf
-            bounds[idx, 3 + q] = -np.inf
+            bounds[idx, BOX_LO + q] = np.inf
+            bounds[idx, BOX_HI + q] = -np.inf
         for k in range(s0, s0 + m):
             t = scratch[k]
             for q in range(3):
-                bounds[idx, q] = min(bounds[idx, q], tlo[t, q])
-                bounds[idx, 3 + q] = max(bounds[idx, 3 + q], thi[t, q])
-        links[idx, 0] = -1
-        links[idx, 1] = -1
-        links[idx, 2] = 0
-        links[idx, 3] = 0
+                bounds[idx, BOX_LO + q] = min(bounds[idx, BOX_LO + q], tlo[t, q])
+                bounds[idx, BOX_HI + q] = max(bounds[idx, BOX_HI + q], thi[t, q])
+        links[idx, LINK_LEFT] = -1
+        links[idx, LINK_RIGHT] = -1
+        links[idx, LINK_START] = 0
+        links[idx, LINK_COUNT] = 0
         axis = -1
         mid = 0.0
         if m > leaf_size and depth < max_depth:
@@ -187,7 +216,7 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
                 a = 0
                 ea = -1.0
                 for q in range(3):
-                    e = bounds[idx, 3 + q] - bounds[idx, q]
+                    e = bounds[idx, BOX_HI + q] - bounds[idx, BOX_LO + q]
                     taken = (rank >= 1 and q == ax0) or (rank >= 2 and q == ax1)
                     if not taken and e > ea:
                         ea = e
@@ -198,7 +227,7 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
                     ax1 = a
                 if not (ea > 0.0):
                     continue
-                md = 0.5 * (bounds[idx, a] + bounds[idx, 3 + a])
+                md = 0.5 * (bounds[idx, BOX_LO + a] + bounds[idx, BOX_HI + a])
                 nl = 0
                 nrr = 0
                 for k in range(s0, s0 + m):
@@ -225,8 +254,8 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
         if axis < 0:
             if nr + m > tris.shape[0]:
                 return -1, -1
-            links[idx, 2] = nr
-            links[idx, 3] = m
+            links[idx, LINK_START] = nr
+            links[idx, LINK_COUNT] = m
             for k in range(s0, s0 + m):
                 tris[nr] = scratch[k]
                 nr += 1
@@ -250,22 +279,22 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
         st_start[sp] = rs
         st_len[sp] = top - rs
         for q in range(3):
-            st_box[sp, q] = blo[q]
-            st_box[sp, 3 + q] = bhi[q]
-        st_box[sp, axis] = mid
+            st_box[sp, BOX_LO + q] = blo[q]
+            st_box[sp, BOX_HI + q] = bhi[q]
+        st_box[sp, BOX_LO + axis] = mid
         st_depth[sp] = depth + 1
         st_parent[sp] = idx
         sp += 1
         st_start[sp] = ls
         st_len[sp] = rs - ls
         for q in range(3):
-            st_box[sp, q] = blo[q]
-            st_box[sp, 3 + q] = bhi[q]
-        st_box[sp, 3 + axis] = mid
+            st_box[sp, BOX_LO + q] = blo[q]
+            st_box[sp, BOX_HI + q] = bhi[q]
+        st_box[sp, BOX_HI + axis] = mid
         st_depth[sp] = depth + 1
         st_parent[sp] = -1
         sp += 1
-        links[idx, 0] = idx + 1
+        links[idx, LINK_LEFT] = idx + 1
     return nn, nr
 
 
@@ -287,8 +316,8 @@ def _leaf_vertices_kernel(links, tris, faces):
     room = 0
     nv = 1
     for nd in range(k):
-        if links[nd, 0] < 0:
-            room += 3 * links[nd, 3]
+        if links[nd, LINK_LEFT] < 0:
+            room += 3 * links[nd, LINK_COUNT]
     for i in range(faces.shape[0]):
         for q in range(3):
             nv = max(nv, faces[i, q] + 1)
@@ -297,11 +326,11 @@ def _leaf_vertices_kernel(links, tris, faces):
     m = 0
     for nd in range(k):
         start[nd] = m
-        if links[nd, 0] >= 0:
+        if links[nd, LINK_LEFT] >= 0:
             continue
-        s = links[nd, 2]
+        s = links[nd, LINK_START]
         first = m
-        for t in range(links[nd, 3]):
+        for t in range(links[nd, LINK_COUNT]):
             for q in range(3):
                 v = faces[tris[s + t], q]
                 if seen[v] == nd:
@@ -320,36 +349,38 @@ def _leaf_vertices_kernel(links, tris, faces):
 
 @numba.njit(cache=True, _nrt=False)
 def node_speeds(vp, ref, lv_start, lv, links, nb, first, last):
-    """``nb[:, 12]``: how far any vertex of the node moves over the frame relative to the
+    """``nb[:, NB_SPEED]``: how far any vertex of the node moves over the frame relative to the
     reference displacement ``ref``, as the norm of the per-axis maxima — a bound on how
     fast the node's (blended) box, and any of its triangles, approaches a point that moves
     with ``ref``."""
     for nd in range(last - 1, first - 1, -1):
-        if links[nd, 0] < 0:
+        if links[nd, LINK_LEFT] < 0:
             mx = 0.0
             my = 0.0
             mz = 0.0
             for s in range(lv_start[nd], lv_start[nd + 1]):
                 v = lv[s]
-                mx = max(mx, abs(vp[v, 3] - vp[v, 0] - ref[0]))
-                my = max(my, abs(vp[v, 4] - vp[v, 1] - ref[1]))
-                mz = max(mz, abs(vp[v, 5] - vp[v, 2] - ref[2]))
-            nb[nd, 12] = math.sqrt(mx * mx + my * my + mz * mz) * (1.0 + 1e-6) + 1e-9
+                mx = max(mx, abs(vp[v, VP_X1] - vp[v, VP_X0] - ref[0]))
+                my = max(my, abs(vp[v, VP_X1 + 1] - vp[v, VP_X0 + 1] - ref[1]))
+                mz = max(mz, abs(vp[v, VP_X1 + 2] - vp[v, VP_X0 + 2] - ref[2]))
+            nb[nd, NB_SPEED] = math.sqrt(mx * mx + my * my + mz * mz) * (1.0 + 1e-6) + 1e-9
         else:
-            nb[nd, 12] = max(nb[links[nd, 0], 12], nb[links[nd, 1], 12])
+            nb[nd, NB_SPEED] = max(nb[links[nd, LINK_LEFT], NB_SPEED],
+                                   nb[links[nd, LINK_RIGHT], NB_SPEED])
 
 
 @numba.njit(cache=True, _nrt=False)
 def refit_frame(vp, col, lv_start, lv, links, nb, first, last):
-    """Refit nodes [first, last) (one part) to the body at one frame: node boxes
-    ``nb[:, 6·col : 6·col + 6]`` (lo, hi) from the positions ``vp[:, 3·col : 3·col + 3]``
-    (leaves over their distinct vertices ``lv``, see :func:`leaf_vertices`; inner nodes the
-    union of their children). The collider keeps a node's boxes at the previous (col 0) and
-    the current frame (col 1): the box at any time between them is their blend."""
-    o = 6 * col
-    c3 = 3 * col
+    """Refit nodes [first, last) (one part) to the body at one frame: node boxes (lo, hi)
+    ``nb[:, NB_LO0 + NB_FRAME·col :][:6]`` from the positions
+    ``vp[:, VP_X0 + (VP_X1 − VP_X0)·col :][:3]`` (leaves over their distinct vertices ``lv``, see
+    :func:`leaf_vertices`; inner nodes the union of their children). The collider keeps a
+    node's boxes at the previous (col 0) and the current frame (col 1): the box at any time
+    between them is their blend."""
+    o = NB_LO0 + NB_FRAME * col
+    c3 = VP_X0 + (VP_X1 - VP_X0) * col
     for nd in range(last - 1, first - 1, -1):
-        if links[nd, 0] < 0:
+        if links[nd, LINK_LEFT] < 0:
             lx = np.inf
             ly = np.inf
             lz = np.inf
@@ -367,38 +398,43 @@ def refit_frame(vp, col, lv_start, lv, links, nb, first, last):
                 hy = max(hy, y)
                 lz = min(lz, z)
                 hz = max(hz, z)
+            h = o + (NB_HI0 - NB_LO0)
             nb[nd, o] = lx
             nb[nd, o + 1] = ly
             nb[nd, o + 2] = lz
-            nb[nd, o + 3] = hx
-            nb[nd, o + 4] = hy
-            nb[nd, o + 5] = hz
+            nb[nd, h] = hx
+            nb[nd, h + 1] = hy
+            nb[nd, h + 2] = hz
         else:
-            l = links[nd, 0]
-            r = links[nd, 1]
+            l = links[nd, LINK_LEFT]
+            r = links[nd, LINK_RIGHT]
+            h = o + (NB_HI0 - NB_LO0)
             for q in range(3):
                 nb[nd, o + q] = min(nb[l, o + q], nb[r, o + q])
-                nb[nd, o + 3 + q] = max(nb[l, o + 3 + q], nb[r, o + 3 + q])
-
-
-#: the columns of the nodes' table the searches read (``nbl`` (K,16) float64): the box at the
-#: search's time (lo 0–2, hi 3–5) and its centre (6–8), by :func:`blend_at`; the box swept
-#: over the frame in the frame moving with the reference displacement (lo 9–11, hi 12–14)
-#: and the node's speed (15), by :func:`swept_boxes`
-NODE_COLUMNS = 16
+                nb[nd, h + q] = max(nb[l, h + q], nb[r, h + q])
 
 
 @numba.njit(cache=True, _nrt=False)
 def swept_boxes(nb, ref, first, last, nbl):
     """Nodes [first, last) (one part) over the frame, once it is refitted: the boxes swept
-    over it in the frame moving by ``ref`` (``nbl[:, 9:15]``: no triangle of the node comes
-    nearer, at any time of the frame, to a point's position in that moving frame;
-    :func:`swept_d2`) and the speeds (``nb[:, 12]`` → ``nbl[:, 15]``)."""
+    over it in the frame moving by ``ref`` (``nbl`` :data:`NL_SWEPT_LO`, :data:`NL_SWEPT_HI`:
+    no triangle of the node comes nearer, at any time of the frame, to a point's position in
+    that moving frame; :func:`swept_d2`) and the speeds (``nb`` :data:`NB_SPEED` → ``nbl``
+    :data:`NL_SPEED`)."""
     for nd in range(first, last):
         for q in range(3):
-            nbl[nd, 9 + q] = min(nb[nd, q], nb[nd, 6 + q] - ref[q])
-            nbl[nd, 12 + q] = max(nb[nd, 3 + q], nb[nd, 9 + q] - ref[q])
-        nbl[nd, 15] = nb[nd, 12]
+            nbl[nd, NL_SWEPT_LO + q] = min(nb[nd, NB_LO0 + q], nb[nd, NB_LO1 + q] - ref[q])
+            nbl[nd, NL_SWEPT_HI + q] = max(nb[nd, NB_HI0 + q], nb[nd, NB_HI1 + q] - ref[q])
+        nbl[nd, NL_SPEED] = nb[nd, NB_SPEED]
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def vp_at(vp, v, k, alpha):
+    """Vertex v's position at time ``alpha`` of the frame: k × the previous frame's + alpha ×
+    the current one's (k = 1 − alpha)."""
+    return (k * vp[v, VP_X0] + alpha * vp[v, VP_X1],
+            k * vp[v, VP_X0 + 1] + alpha * vp[v, VP_X1 + 1],
+            k * vp[v, VP_X0 + 2] + alpha * vp[v, VP_X1 + 2])
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
@@ -407,9 +443,9 @@ def box_d2(px, py, pz, nbl, nd):
     blend of its two frames' boxes, which holds every triangle of the node at that time).
     Branch-free (max/min selects): the walks' box tests are otherwise bound by mispredicted
     branches."""
-    x = max(max(nbl[nd, 0] - px, px - nbl[nd, 3]), 0.0)
-    y = max(max(nbl[nd, 1] - py, py - nbl[nd, 4]), 0.0)
-    z = max(max(nbl[nd, 2] - pz, pz - nbl[nd, 5]), 0.0)
+    x = max(max(nbl[nd, NL_LO] - px, px - nbl[nd, NL_HI]), 0.0)
+    y = max(max(nbl[nd, NL_LO + 1] - py, py - nbl[nd, NL_HI + 1]), 0.0)
+    z = max(max(nbl[nd, NL_LO + 2] - pz, pz - nbl[nd, NL_HI + 2]), 0.0)
     return x * x + y * y + z * z
 
 
@@ -418,9 +454,9 @@ def swept_d2(mx, my, mz, nbl, nd):
     """Squared distance from the point (mx, my, mz), given in the frame moving with the
     reference displacement (p − alpha·ref for p at time alpha), to node nd's box swept over
     the frame (:func:`swept_boxes`; branch-free)."""
-    x = max(max(nbl[nd, 9] - mx, mx - nbl[nd, 12]), 0.0)
-    y = max(max(nbl[nd, 10] - my, my - nbl[nd, 13]), 0.0)
-    z = max(max(nbl[nd, 11] - mz, mz - nbl[nd, 14]), 0.0)
+    x = max(max(nbl[nd, NL_SWEPT_LO] - mx, mx - nbl[nd, NL_SWEPT_HI]), 0.0)
+    y = max(max(nbl[nd, NL_SWEPT_LO + 1] - my, my - nbl[nd, NL_SWEPT_HI + 1]), 0.0)
+    z = max(max(nbl[nd, NL_SWEPT_LO + 2] - mz, mz - nbl[nd, NL_SWEPT_HI + 2]), 0.0)
     return x * x + y * y + z * z
 
 
@@ -428,23 +464,21 @@ def swept_d2(mx, my, mz, nbl, nd):
 def blend_at(vp, nb, first, last, vidx, alpha, nbl, vpl):
     """One part's pose at time ``alpha`` of the frame, as :func:`closest_triangle_t` reads
     it: its nodes [first, last) in ``nbl`` (:data:`NODE_COLUMNS`) — the box blended between
-    the frame's two in ``nb`` (lo 0–2, hi 3–5; :func:`box_d2`) and its centre (6–8, by which
-    the walk orders a node's children) — and its vertices ``vidx`` in ``vpl`` (N,3), blended
-    between the two frames' positions in ``vp`` (N,6). Blended once for the many searches
-    at one time (the object pass's at one substep) instead of inside every node visit and
-    triangle test."""
+    the frame's two in ``nb`` (:data:`NL_LO`, :data:`NL_HI`; :func:`box_d2`) and its centre
+    (:data:`NL_CENTRE`, by which the walk orders a node's children) — and its vertices ``vidx``
+    in ``vpl`` (N,3), blended between the two frames' positions in ``vp`` (:data:`VP_X0`,
+    :data:`VP_X1`). Blended once for the many searches at one time (the object pass's at one
+    substep) instead of inside every node visit and triangle test."""
     b = 1.0 - alpha
     for nd in range(first, last):
         for q in range(3):
-            nbl[nd, q] = b * nb[nd, q] + alpha * nb[nd, 6 + q]
-            nbl[nd, 3 + q] = b * nb[nd, 3 + q] + alpha * nb[nd, 9 + q]
-            nbl[nd, 6 + q] = 0.5 * (b * (nb[nd, q] + nb[nd, 3 + q])
-                                    + alpha * (nb[nd, 6 + q] + nb[nd, 9 + q]))
+            nbl[nd, NL_LO + q] = b * nb[nd, NB_LO0 + q] + alpha * nb[nd, NB_LO1 + q]
+            nbl[nd, NL_HI + q] = b * nb[nd, NB_HI0 + q] + alpha * nb[nd, NB_HI1 + q]
+            nbl[nd, NL_CENTRE + q] = 0.5 * (b * (nb[nd, NB_LO0 + q] + nb[nd, NB_HI0 + q])
+                                            + alpha * (nb[nd, NB_LO1 + q] + nb[nd, NB_HI1 + q]))
     for k in range(vidx.shape[0]):
         v = vidx[k]
-        vpl[v, 0] = b * vp[v, 0] + alpha * vp[v, 3]
-        vpl[v, 1] = b * vp[v, 1] + alpha * vp[v, 4]
-        vpl[v, 2] = b * vp[v, 2] + alpha * vp[v, 5]
+        vpl[v, 0], vpl[v, 1], vpl[v, 2] = vp_at(vp, v, b, alpha)
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -465,9 +499,9 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
     pruned).
 
     ``spd`` (2,) accumulates, for the point's speed bound after the search (see
-    :func:`catwalk.collide.kernels.object_space.object_pass`): spd[0] the max over pruned nodes of
-    m − d·``inv_t`` (m the node's speed ``nb[:, 12]``, d its box distance now, inv_t 1 / the
-    rest of the frame), spd[1] the max speed of the leaves visited."""
+    :func:`catwalk.collide.kernels.object_space.object_pass`): ``spd[SPD_PRUNED]`` the max over
+    pruned nodes of m − d·``inv_t`` (m the node's speed, d its box distance now, inv_t 1 / the
+    rest of the frame), ``spd[SPD_LEAVES]`` the max speed of the leaves visited."""
     stack[0] = root
     sp = 1
     visited = 0
@@ -486,23 +520,23 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
             ds = swept_d2(mx, my, mz, nbl, nd)
             if ds < frame_d2:
                 frame_d2 = ds
-            sv = nbl[nd, 15] - math.sqrt(d) * inv_t
-            if sv > spd[0]:
-                spd[0] = sv
+            sv = nbl[nd, NL_SPEED] - math.sqrt(d) * inv_t
+            if sv > spd[SPD_PRUNED]:
+                spd[SPD_PRUNED] = sv
             continue
-        if links[nd, 0] >= 0:
+        if links[nd, LINK_LEFT] >= 0:
             if sp + 2 > stack.shape[0]:
                 frame_d2 = 0.0  # (never: the stack holds 2 × the depth limit)
                 continue
-            l = links[nd, 0]
-            r = links[nd, 1]
+            l = links[nd, LINK_LEFT]
+            r = links[nd, LINK_RIGHT]
             cl = 0.0
             cr = 0.0
             for q in range(3):
                 c = px if q == 0 else (py if q == 1 else pz)
-                e = nbl[l, 6 + q] - c
+                e = nbl[l, NL_CENTRE + q] - c
                 cl += e * e
-                e = nbl[r, 6 + q] - c
+                e = nbl[r, NL_CENTRE + q] - c
                 cr += e * e
             if cl < cr:
                 stack[sp] = r
@@ -515,9 +549,9 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
         ds = swept_d2(mx, my, mz, nbl, nd)
         if ds < frame_d2:
             frame_d2 = ds
-        if nbl[nd, 15] > spd[1]:
-            spd[1] = nbl[nd, 15]
-        for s in range(links[nd, 2], links[nd, 2] + links[nd, 3]):
+        if nbl[nd, NL_SPEED] > spd[SPD_LEAVES]:
+            spd[SPD_LEAVES] = nbl[nd, NL_SPEED]
+        for s in range(links[nd, LINK_START], links[nd, LINK_START] + links[nd, LINK_COUNT]):
             ia = lf[s, 0]
             ib = lf[s, 1]
             ic = lf[s, 2]
@@ -557,9 +591,9 @@ def depth_of(h: Hierarchy, part: int) -> int:
     while stack:
         nd, d = stack.pop()
         best = max(best, d)
-        if h.links[nd, 0] >= 0:
-            stack.append((int(h.links[nd, 0]), d + 1))
-            stack.append((int(h.links[nd, 1]), d + 1))
+        if h.links[nd, LINK_LEFT] >= 0:
+            stack.append((int(h.links[nd, LINK_LEFT]), d + 1))
+            stack.append((int(h.links[nd, LINK_RIGHT]), d + 1))
     return best
 
 
@@ -585,13 +619,13 @@ def swept_lower(mx, my, mz, nbl, links, root, bound2, stack):
         d = swept_d2(mx, my, mz, nbl, nd)
         if d >= best:
             continue
-        if links[nd, 0] < 0:
+        if links[nd, LINK_LEFT] < 0:
             best = d
             continue
         if sp + 2 > stack.shape[0]:
             best = 0.0  # (never: the stack holds 2 × the depth limit)
             continue
-        stack[sp] = links[nd, 0]
-        stack[sp + 1] = links[nd, 1]
+        stack[sp] = links[nd, LINK_LEFT]
+        stack[sp + 1] = links[nd, LINK_RIGHT]
         sp += 2
     return best, visited

@@ -25,10 +25,11 @@ from typing import NamedTuple
 import numpy as np
 
 from catwalk.body.types import PART_NAMES, PART_TORSO
-from catwalk.cloth.state import PLANE_COLUMNS
+from catwalk.cloth.state import PLANE_COLUMNS, PLANE_NORMAL
 from catwalk.collide import bvh as B
 from catwalk.collide.kernels.boxes import bounds
 from catwalk.collide.kernels.object_space import Workspace
+from catwalk.collide.kernels.record import REC_COLUMNS
 from catwalk.collide.kernels.stats import N_STATS
 from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
 from catwalk.errors import InputError
@@ -126,7 +127,7 @@ def _workspace(stats: np.ndarray | None = None) -> Workspace:
     hierarchy walk's stack, the part reach, two scratch arrays, and its counters (``stats``,
     or new ones)."""
     return Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
-                       np.zeros((1, 54), np.float32),
+                       np.zeros((1, REC_COLUMNS), np.float32),
                        np.zeros(N_STATS, np.int64) if stats is None else stats)
 
 
@@ -387,7 +388,7 @@ class Collider:
         if self.planes.shape[0] != n:
             self.planes = np.zeros((n, PLANE_COLUMNS))
         else:
-            self.planes[:, :3] = 0.0
+            self.planes[:, PLANE_NORMAL:PLANE_NORMAL + 3] = 0.0
         if n == 0:
             return held
         lo = np.full(3, np.inf)

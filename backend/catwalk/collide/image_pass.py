@@ -9,8 +9,19 @@ import numpy as np
 
 from catwalk.collide.collider import Substep, cpu_time
 from catwalk.collide.kernels.boxes import bounds_of, max_displacement
-from catwalk.collide.kernels.depth_maps import map_region, render_maps
-from catwalk.collide.kernels.image_space import image_pass
+from catwalk.collide.kernels.depth_maps import (
+    N_ATTRS,
+    SIDE_BACK,
+    SIDE_FRONT,
+    map_region,
+    render_maps,
+)
+from catwalk.collide.kernels.image_space import (
+    PATT_COLUMNS,
+    PDEP_COLUMNS,
+    PKEY_COLUMNS,
+    image_pass,
+)
 from catwalk.collide.kernels.stats import ST_SKIPPED
 from catwalk.geometry.raster import ortho_view
 
@@ -19,15 +30,16 @@ class DepthMaps:
     """Front and back depth maps (two slots: the previous and the current frame) of a set of
     faces, packed for look-ups (see :func:`catwalk.collide.kernels.image_space.image_pass`)."""
 
-    def __init__(self, faces, face_ids, size, margin, k=6):
+    def __init__(self, faces, face_ids, size, margin, k=N_ATTRS):
         f = np.asarray(faces, dtype=np.int64)[face_ids]
         self.vidx, inv = np.unique(f, return_inverse=True)
         self.faces = inv.reshape(-1, 3).astype(np.int64)
         self.size = (int(size[0]), int(size[1]))
         self.margin = float(margin)
         w, h = self.size
+        # the layout: kernels.depth_maps
         self.D = np.full((h, w, 2, 2), -np.inf, np.float32)   # [row, col, slot, side]
-        self.D[:, :, :, 1] = np.inf
+        self.D[:, :, :, SIDE_BACK] = np.inf
         self.A = np.zeros((h, w, 2, 2, k), np.float32)       # [row, col, side, slot, attr]
         self.tri = np.full((2, 2, h, w), -1, np.int32)        # [slot, side, row, col]
         self.cur = 0
@@ -85,8 +97,9 @@ class DepthMaps:
     def front_back(self, slot):
         """(front depth, back depth, covered) of a slot, float64 copies; covered: both sides
         drawn (what the look-ups answer from)."""
-        return (self.D[:, :, slot, 0].astype(np.float64), self.D[:, :, slot, 1].astype(np.float64),
-                (self.tri[slot, 0] >= 0) & (self.tri[slot, 1] >= 0))
+        return (self.D[:, :, slot, SIDE_FRONT].astype(np.float64),
+                self.D[:, :, slot, SIDE_BACK].astype(np.float64),
+                (self.tri[slot, SIDE_FRONT] >= 0) & (self.tri[slot, SIDE_BACK] >= 0))
 
 
 class ImagePass:
@@ -198,9 +211,9 @@ class ImagePass:
         t = cpu_time()
         n = len(s.pos)
         if self._n != n:
-            self._pkey = np.full((n, 3), -1, np.int64)
-            self._pdep = np.zeros((n, 16), np.float32)
-            self._patt = np.zeros((n, 12), np.float32)
+            self._pkey = np.full((n, PKEY_COLUMNS), -1, np.int64)
+            self._pdep = np.zeros((n, PDEP_COLUMNS), np.float32)
+            self._patt = np.zeros((n, PATT_COLUMNS), np.float32)
             self._pwin = np.zeros(n, np.int8)
             self._n = n
 

@@ -9,16 +9,21 @@ from __future__ import annotations
 import numpy as np
 
 from catwalk.collide import bvh as B
+from catwalk.collide.bvh import NB_COLUMNS, NB_FRAME, NB_LO0, NB_LO1, VP_COLUMNS
 from catwalk.collide.collider import N_PARTS, Substep, cpu_time
 from catwalk.collide.kernels.boxes import body_motion, bounds_of
 from catwalk.collide.kernels.object_space import (
+    CLK_BODY,
+    CLK_TIME,
+    CLK_TRAVEL,
+    N_CLOCKS,
     ObjectBody,
     ObjectConfig,
     ObjectPoints,
     ObjectTime,
     object_pass,
 )
-from catwalk.collide.kernels.record import pack_body
+from catwalk.collide.kernels.record import REC_COLUMNS, VB_COLUMNS, pack_body
 from catwalk.collide.kernels.stats import ST_SKIPPED
 
 
@@ -36,10 +41,10 @@ class PointState:
         self.rkey = np.full(n, -1, np.int64)
         self.pspeed = np.zeros(n)
         self.pstamp = np.full(n, -1, np.int64)
-        self.rec = np.zeros((n, 54), np.float32)
+        self.rec = np.zeros((n, REC_COLUMNS), np.float32)
         self.last = np.zeros((n, 3))
         self.left = np.zeros((n, 3))
-        self.pclk = np.full((n, 5), -1.0)   # time < 0: never seen
+        self.pclk = np.full((n, N_CLOCKS), -1.0)   # time < 0: never seen
         self.csw = np.zeros((n, N_PARTS))
         self.crel = np.zeros(n)
         self.cstamp = np.full(n, -1, np.int64)
@@ -85,18 +90,19 @@ class ObjectPass:
         self._part_vidx = {p: np.unique(faces[f]) for p, f in self._part_faces.items()}
         self._tree_vidx = np.unique(faces[np.nonzero(parts[face_part])[0]])
         # workspaces for the kernels (they run without numba's runtime, so never allocate)
-        self._vb = np.zeros((n_vertices, 18), np.float32)
-        self._vp = np.zeros((n_vertices, 6), np.float32)
+        self._vb = np.zeros((n_vertices, VB_COLUMNS), np.float32)
+        self._vp = np.zeros((n_vertices, VP_COLUMNS), np.float32)
         self._ref = np.zeros(3)      # the body's mean displacement over the frame
         self._body_speed = 0.0       # the farthest a tree vertex moves relative to it
         # clocks at the start of this frame: the moving frame's travel (3), the body's travel
         # relative to it (an upper bound: the sum of the frames' body speeds); with the time
         # (frame + alpha) the object pass measures each point's motion since it last saw it
-        self._clock0 = np.zeros(4)
-        self._clock = np.zeros(5)
+        # (the clocks' columns: kernels.object_space.CLK_TRAVEL …; the time, CLK_TIME, last)
+        self._clock0 = np.zeros(CLK_TIME)   # the clocks before the time
+        self._clock = np.zeros(N_CLOCKS)
         self._packed_frame = -1
         self._nb = None              # node boxes at the previous and the current frame
-        self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are in nb[:, 6:12]
+        self._box_frame = np.full(N_PARTS, -2)  # the frame whose boxes are nb's current ones
         # the nodes' table the searches read (bvh.NODE_COLUMNS: the swept boxes once a frame,
         # bvh.swept_boxes; the boxes at one time of the frame, bvh.blend_at), the vertices at
         # that time, and the (frame, alpha) each part's are for
@@ -113,15 +119,15 @@ class ObjectPass:
         """The body's frame changed (``col._frame`` the new one)."""
         if not first:
             # the previous frame is over (whatever alpha its last resolve had)
-            self._clock0[:3] += self._ref
-            self._clock0[3] += self._body_speed
+            self._clock0[CLK_TRAVEL:CLK_TRAVEL + 3] += self._ref
+            self._clock0[CLK_BODY] += self._body_speed
         self._refit_done[:] = False
         if first:
             v = col.v1
             self.tree = B.build(v, col.faces, self._part_faces, self.leaf_size)
             self._lv_start, self._lv = B.leaf_vertices(self.tree, col.faces)
             self._lf = np.ascontiguousarray(col.faces[self.tree.tris], dtype=np.int32)
-            self._nb = np.zeros((self.tree.n_nodes, 16), np.float32)
+            self._nb = np.zeros((self.tree.n_nodes, NB_COLUMNS), np.float32)
             self._nbl = np.zeros((self.tree.n_nodes, B.NODE_COLUMNS))
             h = self.tree
             self._body = tuple(ObjectBody(self._vb, self._vp, col.faces, col.face_part,
@@ -188,7 +194,8 @@ class ObjectPass:
         for p in np.nonzero(need)[0]:
             a, e = h.root[p], h.end[p]
             if self._box_frame[p] == col._frame - 1:
-                nb[a:e, 0:6] = nb[a:e, 6:12]  # the previous frame's boxes: already known
+                # the previous frame's boxes: already known
+                nb[a:e, NB_LO0:NB_LO0 + NB_FRAME] = nb[a:e, NB_LO1:NB_LO1 + NB_FRAME]
             else:
                 B.refit_frame(self._vp, 0, self._lv_start, self._lv, h.links, nb, a, e)
             B.refit_frame(self._vp, 1, self._lv_start, self._lv, h.links, nb, a, e)
@@ -241,9 +248,10 @@ class ObjectPass:
         self._blend(col, active, s.alpha)
         col.timings.object_queries += cpu_time() - t
         ck = self._clock
-        ck[:3] = self._clock0[:3] + s.alpha * self._ref
-        ck[3] = self._clock0[3] + s.alpha * self._body_speed
-        ck[4] = col._frame + s.alpha
+        ck[CLK_TRAVEL:CLK_TRAVEL + 3] = self._clock0[CLK_TRAVEL:CLK_TRAVEL + 3] + \
+            s.alpha * self._ref
+        ck[CLK_BODY] = self._clock0[CLK_BODY] + s.alpha * self._body_speed
+        ck[CLK_TIME] = col._frame + s.alpha
         t = cpu_time()
 
         # the groups go to the kernel as plain tuples (it unpacks them by position): numba

@@ -1,5 +1,13 @@
 """Drawing the depth maps: one slot of the front and back maps over the region the cloth can
-reach (:func:`render_maps`) and that region (:func:`map_region`)."""
+reach (:func:`render_maps`) and that region (:func:`map_region`).
+
+The maps' layout (:class:`catwalk.collide.image_pass.DepthMaps`): depths ``D`` (H, W, 2 slots,
+2 sides) float32, side :data:`SIDE_FRONT` the surfaces facing the camera (the nearest kept),
+:data:`SIDE_BACK` those facing away (the farthest kept), −inf/+inf where none is drawn; each
+pixel's attributes ``A`` (H, W, 2 sides, 2 slots, :data:`N_ATTRS`) float32, the interpolated
+vertex normal (:data:`ATTR_NORMAL`, xyz) and body velocity (:data:`ATTR_VELOCITY`, xyz); the
+triangle drawn ``tri`` (2 slots, 2 sides, H, W) int32, −1 for none.
+"""
 
 from __future__ import annotations
 
@@ -10,6 +18,9 @@ import numpy as np
 
 from catwalk.geometry.raster import row_span
 
+SIDE_FRONT, SIDE_BACK = 0, 1
+ATTR_NORMAL, ATTR_VELOCITY = 0, 3
+N_ATTRS = 6
 
 @numba.njit(cache=True, _nrt=False)
 def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, c1):
@@ -29,14 +40,14 @@ def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, 
         z = v[i, 2]
         for r in range(3):
             sv[k, r] = m[r, 0] * x + m[r, 1] * y + m[r, 2] * z + m[r, 3]
-            attrs[k, r] = n[i, r]
-            attrs[k, 3 + r] = w[i, r]
+            attrs[k, ATTR_NORMAL + r] = n[i, r]
+            attrs[k, ATTR_VELOCITY + r] = w[i, r]
     for i in range(r0, r1 + 1):
         for j in range(c0, c1 + 1):
-            D[i, j, slot, 0] = -np.inf
-            D[i, j, slot, 1] = np.inf
-            tri[slot, 0, i, j] = -1
-            tri[slot, 1, i, j] = -1
+            D[i, j, slot, SIDE_FRONT] = -np.inf
+            D[i, j, slot, SIDE_BACK] = np.inf
+            tri[slot, SIDE_FRONT, i, j] = -1
+            tri[slot, SIDE_BACK, i, j] = -1
     eps = 1e-9
     for t in range(faces.shape[0]):
         a = faces[t, 0]
@@ -62,7 +73,7 @@ def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, 
         if not (abs(area) > 1e-14):  # degenerate or NaN
             continue
         # rows grow downwards: a triangle facing the camera has area < 0 → front map
-        side = 0 if area < 0.0 else 1
+        side = SIDE_FRONT if area < 0.0 else SIDE_BACK
         z0 = sv[a, 2]
         z1 = sv[b, 2]
         z2 = sv[c, 2]
@@ -90,14 +101,14 @@ def render_maps(m, v, n, w, idx, faces, sv, attrs, slot, D, A, tri, r0, r1, c0, 
                     continue
                 z = w0 * z0 + w1 * z1 + w2 * z2
                 if tri[slot, side, i, j] >= 0:
-                    if side == 1:
-                        if z >= D[i, j, slot, 1]:
+                    if side == SIDE_BACK:
+                        if z >= D[i, j, slot, SIDE_BACK]:
                             continue
-                    elif z <= D[i, j, slot, 0]:
+                    elif z <= D[i, j, slot, SIDE_FRONT]:
                         continue
                 D[i, j, slot, side] = z
                 tri[slot, side, i, j] = t
-                for q in range(6):
+                for q in range(N_ATTRS):
                     A[i, j, side, slot, q] = w0 * attrs[a, q] + w1 * attrs[b, q] + \
                         w2 * attrs[c, q]
 

@@ -1,6 +1,17 @@
 """The image pass's kernel (:func:`image_pass`): each cloth point looked up in the front and back
 depth maps at its pixel, the response to the nearer surface, and the points the maps cannot
-answer marked for object space."""
+answer marked for object space.
+
+What each point keeps of the pixels it read (the maps' layout: :mod:`.depth_maps`):
+
+* ``pkey`` (P, :data:`PKEY_COLUMNS`) int64: the key of its 2×2 pixel block
+  (:data:`KEY_BLOCK`) and those of the pixels and side its attributes came from, slot u's at
+  ``KEY_ATTRS + u``;
+* ``pdep`` (P, :data:`PDEP_COLUMNS`) float32: the block's depths, pixel q of slot u at
+  ``DEP_FRONT + BLOCK·u + q`` (the front map) and ``DEP_BACK + BLOCK·u + q`` (the back map);
+* ``patt`` (P, :data:`PATT_COLUMNS`) float32: the attributes (normal, velocity), slot u's at
+  ``N_ATTRS·u`` (``ATTR_NORMAL``, ``ATTR_VELOCITY`` added).
+"""
 
 from __future__ import annotations
 
@@ -9,10 +20,24 @@ import math
 import numba
 import numpy as np
 
+from catwalk.collide.kernels.depth_maps import (
+    ATTR_NORMAL,
+    ATTR_VELOCITY,
+    N_ATTRS,
+    SIDE_BACK,
+    SIDE_FRONT,
+)
 from catwalk.collide.kernels.response import near_plane, record_plane, respond
 from catwalk.collide.kernels.stats import ST_BOXED, ST_CONTACT, ST_EDGE, ST_NARROW, ST_SKIPPED
 
 EDGE_WINDOW = 2  # pixels round a point's block that count as near the torso's silhouette
+KEY_BLOCK, KEY_ATTRS = 0, 1
+PKEY_COLUMNS = 3
+#: pixels in a block (2×2)
+BLOCK = 4
+DEP_FRONT, DEP_BACK = 0, 2 * BLOCK
+PDEP_COLUMNS = 4 * BLOCK
+PATT_COLUMNS = 2 * N_ATTRS
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
@@ -22,8 +47,8 @@ def _window_covered(D, i0, j0, s0, s1, h, w):
     camera are drawn: the front map is empty there, the back map is not), else 0."""
     for ii in range(max(i0 - EDGE_WINDOW, 0), min(i0 + 2 + EDGE_WINDOW, h)):
         for jj in range(max(j0 - EDGE_WINDOW, 0), min(j0 + 2 + EDGE_WINDOW, w)):
-            if D[ii, jj, s0, 0] > -np.inf or D[ii, jj, s1, 0] > -np.inf or \
-                    D[ii, jj, s0, 1] < np.inf or D[ii, jj, s1, 1] < np.inf:
+            if D[ii, jj, s0, SIDE_FRONT] > -np.inf or D[ii, jj, s1, SIDE_FRONT] > -np.inf or \
+                    D[ii, jj, s0, SIDE_BACK] < np.inf or D[ii, jj, s1, SIDE_BACK] < np.inf:
                 return 1
     return 0
 
@@ -39,16 +64,15 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
     cores").
 
     ``m`` (3×4) world → map (x col, y row, z = depth towards the front camera). ``D``
-    (H,W,2 slots,2 sides) float32 depth (side 0 front = nearest, 1 back = farthest;
-    −inf/+inf where empty), bilinear over the covered pixels; ``A`` (H,W,2 sides,2 slots,6)
-    float32 per-pixel normal (3) and body velocity (3), taken from the nearest covered pixel.
+    (H,W,2 slots,2 sides) float32 depth (:data:`~.depth_maps.SIDE_FRONT` = nearest,
+    :data:`~.depth_maps.SIDE_BACK` = farthest; −inf/+inf where empty), bilinear over the
+    covered pixels; ``A`` (H,W,2 sides,2 slots,N_ATTRS) float32 per-pixel normal and body
+    velocity, taken from the nearest covered pixel.
 
     The maps do not change during a frame and a point's pixel changes slowly, so each point
-    keeps a copy of what it read (``version`` numbers the maps' contents): ``pkey`` (P,3)
-    int64 (its 2×2 pixel block; the pixels and side its attributes came from), ``pdep``
-    (P,16) float32 (the block's depths: pixel q, slot u, side k at 4u + 8k + q... see below),
-    ``patt`` (P,12) float32 (normal and velocity, both slots). Read in order, one point after
-    the other, they stay cheap where the maps' scattered pixels would miss the cache.
+    keeps a copy of what it read (``version`` numbers the maps' contents): ``pkey``, ``pdep``,
+    ``patt`` (the module's docstring). Read in order, one point after the other, they stay
+    cheap where the maps' scattered pixels would miss the cache.
     (The object pass's clearances count these pushes as the points' motion: it measures
     each point's motion from where it last saw it.)
 
@@ -108,21 +132,21 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         tx = fx - j0
         ty = fy - i0
         key = vkey | ((i0 + 1) << 20) | (j0 + 1)
-        if pkey[i, 0] != key:
+        if pkey[i, KEY_BLOCK] != key:
             # the 2×2 block's depths, both slots and sides (−inf/+inf off the map)
-            for q in range(4):
+            for q in range(BLOCK):
                 ii = i0 + (q >> 1)
                 jj = j0 + (q & 1)
                 inside = ii >= 0 and ii < h and jj >= 0 and jj < w
                 for u in range(2):
                     sl = s0 if u == 0 else s1
                     if inside:
-                        pdep[i, 4 * u + q] = D[ii, jj, sl, 0]
-                        pdep[i, 8 + 4 * u + q] = D[ii, jj, sl, 1]
+                        pdep[i, DEP_FRONT + BLOCK * u + q] = D[ii, jj, sl, SIDE_FRONT]
+                        pdep[i, DEP_BACK + BLOCK * u + q] = D[ii, jj, sl, SIDE_BACK]
                     else:
-                        pdep[i, 4 * u + q] = -np.inf
-                        pdep[i, 8 + 4 * u + q] = np.inf
-            pkey[i, 0] = key
+                        pdep[i, DEP_FRONT + BLOCK * u + q] = -np.inf
+                        pdep[i, DEP_BACK + BLOCK * u + q] = np.inf
+            pkey[i, KEY_BLOCK] = key
             pwin[i] = -1  # not looked at yet for this block
         w00 = (1.0 - tx) * (1.0 - ty)
         w01 = tx * (1.0 - ty)
@@ -144,27 +168,27 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         zb1 = 0.0
         q1 = -1
         wq1 = -1.0
-        for q in range(4):
+        for q in range(BLOCK):
             wq = w00 if q == 0 else (w01 if q == 1 else (w10 if q == 2 else w11))
-            f = pdep[i, q]
-            if f > -np.inf and pdep[i, 8 + q] < np.inf:
+            f = pdep[i, DEP_FRONT + q]
+            if f > -np.inf and pdep[i, DEP_BACK + q] < np.inf:
                 nc0 += 1
                 ws0 += wq
                 zf0 += wq * f
-                zb0 += wq * pdep[i, 8 + q]
+                zb0 += wq * pdep[i, DEP_BACK + q]
                 if wq > wq0:
                     wq0 = wq
                     q0 = q
-            f = pdep[i, 4 + q]
-            if f > -np.inf and pdep[i, 12 + q] < np.inf:
+            f = pdep[i, DEP_FRONT + BLOCK + q]
+            if f > -np.inf and pdep[i, DEP_BACK + BLOCK + q] < np.inf:
                 nc1 += 1
                 ws1 += wq
                 zf1 += wq * f
-                zb1 += wq * pdep[i, 12 + q]
+                zb1 += wq * pdep[i, DEP_BACK + BLOCK + q]
                 if wq > wq1:
                     wq1 = wq
                     q1 = q
-        if use_edge and (nc0 < 4 or nc1 < 4):
+        if use_edge and (nc0 < BLOCK or nc1 < BLOCK):
             # at or near the silhouette (or the open rim where a limb joins): the surface
             # there turns away from both cameras (the crotch's underside is seen edge-on and
             # drawn in no pixel at all): object space answers
@@ -197,26 +221,26 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         if z >= zf + reach or z <= zb - reach:
             continue
         front = (zf - z) <= (z - zb)
-        side = 0 if front else 1
+        side = SIDE_FRONT if front else SIDE_BACK
         # normal and velocity from the covered pixel of the block nearest the point
         pix0 = (i0 + (q0 >> 1)) * w + j0 + (q0 & 1) if (ka > 0.0 and q0 >= 0) else -1
         pix1 = (i0 + (q1 >> 1)) * w + j0 + (q1 & 1) if (kb > 0.0 and q1 >= 0) else -1
         k0 = akey | (side << 28) | (pix0 + 1)
         k1 = akey | (side << 28) | (pix1 + 1)
-        if pkey[i, 1] != k0:
+        if pkey[i, KEY_ATTRS] != k0:
             if pix0 >= 0:
                 ii = pix0 // w
                 jj = pix0 - ii * w
-                for c in range(6):
+                for c in range(N_ATTRS):
                     patt[i, c] = A[ii, jj, side, s0, c]
-            pkey[i, 1] = k0
-        if pkey[i, 2] != k1:
+            pkey[i, KEY_ATTRS] = k0
+        if pkey[i, KEY_ATTRS + 1] != k1:
             if pix1 >= 0:
                 ii = pix1 // w
                 jj = pix1 - ii * w
-                for c in range(6):
-                    patt[i, 6 + c] = A[ii, jj, side, s1, c]
-            pkey[i, 2] = k1
+                for c in range(N_ATTRS):
+                    patt[i, N_ATTRS + c] = A[ii, jj, side, s1, c]
+            pkey[i, KEY_ATTRS + 1] = k1
         nx = 0.0
         ny = 0.0
         nz = 0.0
@@ -224,19 +248,19 @@ def image_pass(pos, vel, alpha, m, D, A, s0, s1, version, box_lo, box_hi, thickn
         bvy = 0.0
         bvz = 0.0
         if ka > 0.0:
-            nx += ka * patt[i, 0]
-            ny += ka * patt[i, 1]
-            nz += ka * patt[i, 2]
-            bvx += ka * patt[i, 3]
-            bvy += ka * patt[i, 4]
-            bvz += ka * patt[i, 5]
+            nx += ka * patt[i, ATTR_NORMAL]
+            ny += ka * patt[i, ATTR_NORMAL + 1]
+            nz += ka * patt[i, ATTR_NORMAL + 2]
+            bvx += ka * patt[i, ATTR_VELOCITY]
+            bvy += ka * patt[i, ATTR_VELOCITY + 1]
+            bvz += ka * patt[i, ATTR_VELOCITY + 2]
         if kb > 0.0:
-            nx += kb * patt[i, 6]
-            ny += kb * patt[i, 7]
-            nz += kb * patt[i, 8]
-            bvx += kb * patt[i, 9]
-            bvy += kb * patt[i, 10]
-            bvz += kb * patt[i, 11]
+            nx += kb * patt[i, N_ATTRS + ATTR_NORMAL]
+            ny += kb * patt[i, N_ATTRS + ATTR_NORMAL + 1]
+            nz += kb * patt[i, N_ATTRS + ATTR_NORMAL + 2]
+            bvx += kb * patt[i, N_ATTRS + ATTR_VELOCITY]
+            bvy += kb * patt[i, N_ATTRS + ATTR_VELOCITY + 1]
+            bvz += kb * patt[i, N_ATTRS + ATTR_VELOCITY + 2]
         sgn = 1.0 if front else -1.0
         nl = math.sqrt(nx * nx + ny * ny + nz * nz)
         if nl > 1e-12:

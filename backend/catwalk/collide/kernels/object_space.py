@@ -11,8 +11,28 @@ from collections import namedtuple
 import numba
 import numpy as np
 
-from catwalk.collide.bvh import box_d2, closest_triangle_t, swept_d2
-from catwalk.collide.kernels.record import fill_record, rec_velocity, signed_rec
+from catwalk.collide.bvh import (
+    NB_HI0,
+    NB_HI1,
+    NB_LO0,
+    NB_LO1,
+    NL_SPEED,
+    SPD_LEAVES,
+    SPD_PRUNED,
+    VP_X0,
+    VP_X1,
+    box_d2,
+    closest_triangle_t,
+    swept_d2,
+    vp_at,
+)
+from catwalk.collide.kernels.record import (
+    fill_record,
+    rec_centroid,
+    rec_triangle_at,
+    rec_velocity,
+    signed_rec,
+)
 from catwalk.collide.kernels.response import near_plane, record_plane, respond
 from catwalk.collide.kernels.second_surface import fold, other_part_bounds, second_surface
 from catwalk.collide.kernels.stats import (
@@ -28,6 +48,13 @@ from catwalk.collide.kernels.stats import (
     ST_TRIS,
 )
 from catwalk.geometry.triangles import closest_on_triangle
+
+#: the collider's clocks (``clock`` (N_CLOCKS,), and each point's copy when it was last seen,
+#: ``pclk`` (P, N_CLOCKS)): the moving frame's travel (CLK_TRAVEL, xyz), the body's travel
+#: relative to it (CLK_BODY: an upper bound of how far any limb vertex moved), the time
+#: (CLK_TIME: frame + alpha; < 0: never seen)
+CLK_TRAVEL, CLK_BODY, CLK_TIME = 0, 3, 4
+N_CLOCKS = 5
 
 # the object pass's inputs, grouped (numba takes named tuples of arrays and numbers; the pass
 # unpacks them, see :func:`object_pass`)
@@ -69,10 +96,11 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
 
     What a point's skips rest on is how far it and the body moved since the point was last
     seen here, whatever moved it in between (the solver, a position correction, the image
-    pass): ``last`` (P,3) its position then, ``pclk`` (P,5) the collider's clocks then —
-    the moving frame's travel (0–2) and the body's (3: an upper bound of how far any limb
-    vertex moved relative to it), and the time (4: frame + alpha; < 0: never seen). ``clock``
-    (5,) the same clocks now. A point's motion in the moving frame is then
+    pass): ``last`` (P,3) its position then, ``pclk`` (P, :data:`N_CLOCKS`) the collider's
+    clocks then — the moving frame's travel (:data:`CLK_TRAVEL`) and the body's
+    (:data:`CLK_BODY`: an upper bound of how far any limb vertex moved relative to it), and the
+    time (:data:`CLK_TIME`: frame + alpha; < 0: never seen). ``clock`` (:data:`N_CLOCKS`,) the
+    same clocks now. A point's motion in the moving frame is then
     |p − last − (travel now − travel then)|, the body's is the difference of the body
     clocks (or ``pspeed`` × the time since, within the frame of the point's last search).
 
@@ -97,8 +125,9 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     triangle, collision and response. A point deeper than ``max_depth`` collides only if
     its last position, at its time, was outside.
 
-    ``rkey`` (P,) int64 and ``rec`` (P,54) float32: each point's copy of its closest
-    triangle's vertices for this ``frame`` (see :func:`fill_record`), read in point order
+    ``rkey`` (P,) int64 and ``rec`` (P, :data:`~catwalk.collide.kernels.record.REC_COLUMNS`)
+    float32: each point's copy of its closest triangle's vertices for this ``frame`` (see
+    :func:`~catwalk.collide.kernels.record.fill_record`), read in point order
     while the triangle is reused, instead of the scattered vertices. ``pspeed``/``pstamp``
     (P,): a speed bound for ``clear_rel`` found by the point's last search in
     frame ``pstamp`` (the nodes near it move slower than the fastest vertex): how fast the
@@ -117,8 +146,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     left as they are, their clocks too: their next motion counts everything since).
 
     ``second``: also look, for each held point, for a second part facing the first within the
-    thickness, the cloth pinched between (:func:`second_surface`); ``rec2`` (1,54) float32:
-    workspace.
+    thickness, the cloth pinched between (:func:`second_surface`); ``rec2`` (1, REC_COLUMNS)
+    float32: workspace.
 
     ``recheck``: the points seen were pushed earlier in this response (the frame kept looks
     at them again): one found outside is left as it is; one inside a surface facing the plane
@@ -146,8 +175,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
         r = roots[k]
         ok = True
         for q in range(3):
-            if min(nb[r, q], nb[r, 6 + q]) > cloth_hi[q] + search_radius or \
-                    max(nb[r, 3 + q], nb[r, 9 + q]) < cloth_lo[q] - search_radius:
+            if min(nb[r, NB_LO0 + q], nb[r, NB_LO1 + q]) > cloth_hi[q] + search_radius or \
+                    max(nb[r, NB_HI0 + q], nb[r, NB_HI1 + q]) < cloth_lo[q] - search_radius:
                 ok = False
         reach[k] = ok or not skip_far
         any_part = any_part or reach[k]
@@ -163,7 +192,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
     rz = ref[2]
     rest = 1.0 - alpha
     inv_t = 1.0 / rest if rest > 1e-9 else 0.0
-    tnow = clock[4]
+    tnow = clock[CLK_TIME]
     use_only = only.shape[0] > 0
     for i in range(start, stop):
         if use_only and not only[i]:
@@ -173,16 +202,16 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
         px = pos[i, 0]
         py = pos[i, 1]
         pz = pos[i, 2]
-        ti = pclk[i, 4]
+        ti = pclk[i, CLK_TIME]
         rel = np.inf   # never seen: no bound on its motion or the body's
         bstep = np.inf
         if ti >= 0.0:
             # since the point was last seen: its motion in the moving frame, the body's
-            ex = px - last[i, 0] - (clock[0] - pclk[i, 0])
-            ey = py - last[i, 1] - (clock[1] - pclk[i, 1])
-            ez = pz - last[i, 2] - (clock[2] - pclk[i, 2])
+            ex = px - last[i, 0] - (clock[CLK_TRAVEL] - pclk[i, CLK_TRAVEL])
+            ey = py - last[i, 1] - (clock[CLK_TRAVEL + 1] - pclk[i, CLK_TRAVEL + 1])
+            ez = pz - last[i, 2] - (clock[CLK_TRAVEL + 2] - pclk[i, CLK_TRAVEL + 2])
             rel = math.sqrt(ex * ex + ey * ey + ez * ez)
-            btrav = abs(clock[3] - pclk[i, 3])
+            btrav = abs(clock[CLK_BODY] - pclk[i, CLK_BODY])
             same = ti >= frame and tnow >= ti  # seen earlier in this frame
             bstep = pspeed[i] * (tnow - ti) if same and pstamp[i] == frame else btrav
         if ti >= frame + alpha_prev - 1e-9:
@@ -215,7 +244,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
         left[i, 0] = px
         left[i, 1] = py
         left[i, 2] = pz
-        for q in range(5):
+        for q in range(N_CLOCKS):
             pclk[i, q] = clock[q]
         crel[i] += rel  # the point's motion since the other parts' bounds were taken
         if use_clear:
@@ -238,26 +267,15 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             if rkey[i] != fkey | t:
                 fill_record(rec, i, vb, faces, t)
                 rkey[i] = fkey | t
-            gx = (b * (rec[i, 0] + rec[i, 18] + rec[i, 36])
-                  + alpha * (rec[i, 3] + rec[i, 21] + rec[i, 39])) / 3.0
-            gy = (b * (rec[i, 1] + rec[i, 19] + rec[i, 37])
-                  + alpha * (rec[i, 4] + rec[i, 22] + rec[i, 40])) / 3.0
-            gz = (b * (rec[i, 2] + rec[i, 20] + rec[i, 38])
-                  + alpha * (rec[i, 5] + rec[i, 23] + rec[i, 41])) / 3.0
+            gx = rec_centroid(rec, i, 0, b, alpha)
+            gy = rec_centroid(rec, i, 1, b, alpha)
+            gz = rec_centroid(rec, i, 2, b, alpha)
             ex = (px - cache_p[i, 0]) - (gx - cache_c[i, 0])
             ey = (py - cache_p[i, 1]) - (gy - cache_c[i, 1])
             ez = (pz - cache_p[i, 2]) - (gz - cache_c[i, 2])
             near = ex * ex + ey * ey + ez * ez < reuse_tol * reuse_tol
             k = 1.0 - alpha
-            ax = k * rec[i, 0] + alpha * rec[i, 3]
-            ay = k * rec[i, 1] + alpha * rec[i, 4]
-            az = k * rec[i, 2] + alpha * rec[i, 5]
-            bx = k * rec[i, 18] + alpha * rec[i, 21]
-            by = k * rec[i, 19] + alpha * rec[i, 22]
-            bz = k * rec[i, 20] + alpha * rec[i, 23]
-            cx = k * rec[i, 36] + alpha * rec[i, 39]
-            cy = k * rec[i, 37] + alpha * rec[i, 40]
-            cz = k * rec[i, 38] + alpha * rec[i, 41]
+            ax, ay, az, bx, by, bz, cx, cy, cz = rec_triangle_at(rec, i, k, alpha)
             v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
             qx_ = ax + v * (bx - ax) + w * (cx - ax) - px
             qy_ = ay + v * (by - ay) + w * (cy - ay) - py
@@ -292,15 +310,9 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                     ia = faces[t2, 0]
                     ib = faces[t2, 1]
                     ic = faces[t2, 2]
-                    ax = k * vp[ia, 0] + alpha * vp[ia, 3]
-                    ay = k * vp[ia, 1] + alpha * vp[ia, 4]
-                    az = k * vp[ia, 2] + alpha * vp[ia, 5]
-                    bx = k * vp[ib, 0] + alpha * vp[ib, 3]
-                    by = k * vp[ib, 1] + alpha * vp[ib, 4]
-                    bz = k * vp[ib, 2] + alpha * vp[ib, 5]
-                    cx = k * vp[ic, 0] + alpha * vp[ic, 3]
-                    cy = k * vp[ic, 1] + alpha * vp[ic, 4]
-                    cz = k * vp[ic, 2] + alpha * vp[ic, 5]
+                    ax, ay, az = vp_at(vp, ia, k, alpha)
+                    bx, by, bz = vp_at(vp, ib, k, alpha)
+                    cx, cy, cz = vp_at(vp, ic, k, alpha)
                     ex = (px - cp2[i, 0]) - ((ax + bx + cx) / 3.0 - cc2[i, 0])
                     ey = (py - cp2[i, 1]) - ((ay + by + cy) / 3.0 - cc2[i, 1])
                     ez = (pz - cp2[i, 2]) - ((az + bz + cz) / 3.0 - cc2[i, 2])
@@ -337,11 +349,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                                 cp2[i, 1] = py
                                 cp2[i, 2] = pz
                                 for q in range(3):
-                                    cc2[i, q] = (k * (vp[faces[tk, 0], q] + vp[faces[tk, 1], q]
-                                                      + vp[faces[tk, 2], q])
-                                                 + alpha * (vp[faces[tk, 0], 3 + q]
-                                                            + vp[faces[tk, 1], 3 + q]
-                                                            + vp[faces[tk, 2], 3 + q])) / 3.0
+                                    cc2[i, q] = _vp_centroid(vp, faces, tk, q, k, alpha)
             if near:
                 best_t = t
                 stats[ST_REUSED] += 1
@@ -354,8 +362,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             cstamp[i] = -1  # the other parts than the closest triangle's: not known
             ct2[i] = -1
             boxed = False
-            spd[0] = 0.0
-            spd[1] = 0.0
+            spd[SPD_PRUNED] = 0.0
+            spd[SPD_LEAVES] = 0.0
             lower = np.inf  # squared bound, over the frame, to every part's triangles
             now = np.inf  # squared bound, now, to the parts not searched
             for k in range(n_parts):
@@ -366,7 +374,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 if not reach[k] or (skip_far and dr >= best_d2):
                     lower = min(lower, swept_d2(px - alpha * rx, py - alpha * ry,
                                                  pz - alpha * rz, nbl, rt))
-                    spd[0] = max(spd[0], nbl[rt, 15] - math.sqrt(dr) * inv_t)
+                    spd[SPD_PRUNED] = max(spd[SPD_PRUNED],
+                                          nbl[rt, NL_SPEED] - math.sqrt(dr) * inv_t)
                     now = min(now, dr)
                     continue
                 boxed = True
@@ -390,7 +399,8 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                 clear[i] = math.sqrt(lower) - touch
                 # and during the rest of this frame none approaches faster than this
                 dd = math.sqrt(best_d2)
-                pspeed[i] = max(spd[0] + dd * inv_t, spd[1], 0.0) if rest > 1e-9 else 0.0
+                pspeed[i] = max(spd[SPD_PRUNED] + dd * inv_t, spd[SPD_LEAVES], 0.0) \
+                    if rest > 1e-9 else 0.0
                 pstamp[i] = frame
                 if best_t < 0:
                     clear_rel[i] = dd - touch
@@ -404,8 +414,7 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
             if use_cache:
                 cache_tri[i] = best_t
                 for q in range(3):
-                    cache_c[i, q] = (b * (rec[i, q] + rec[i, 18 + q] + rec[i, 36 + q]) + alpha * (
-                        rec[i, 3 + q] + rec[i, 21 + q] + rec[i, 39 + q])) / 3.0
+                    cache_c[i, q] = rec_centroid(rec, i, q, b, alpha)
                 cache_p[i, 0] = px
                 cache_p[i, 1] = py
                 cache_p[i, 2] = pz
@@ -453,6 +462,16 @@ def object_pass(pos, vel, prev, held, planes, only, part_active, cloth_lo, cloth
                                stack, inv_t, spd, rec2, csw, crel, cstamp, frame, planes,
                                stats):
                 _left_here(left, pos, i)
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _vp_centroid(vp, faces, t, q, k, alpha):
+    """Coordinate q of triangle t's centroid at time ``alpha`` (k = 1 − alpha), from the
+    positions ``vp``."""
+    return (k * (vp[faces[t, 0], VP_X0 + q] + vp[faces[t, 1], VP_X0 + q]
+                 + vp[faces[t, 2], VP_X0 + q])
+            + alpha * (vp[faces[t, 0], VP_X1 + q] + vp[faces[t, 1], VP_X1 + q]
+                       + vp[faces[t, 2], VP_X1 + q])) / 3.0
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")

@@ -10,6 +10,7 @@ import math
 import numba
 
 from catwalk.cloth.contact_planes import contact_velocity
+from catwalk.cloth.state import PLANE_FRICTION, PLANE_NORMAL, PLANE_OFFSET, PLANE_VELOCITY
 
 
 @numba.njit(cache=True, _nrt=False)
@@ -27,18 +28,26 @@ def respond(pos, vel, i, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
 @numba.njit(cache=True, _nrt=False, inline="always")
 def record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction):
     """Point i (at p, signed distance s along the unit normal n) is held: its contact plane
-    (``planes[i]``, 8 numbers) is the body's surface offset by ``thickness``,
-    n·x ≥ n·p + thickness − s (0–2: n, 3: that offset), moving with the body's velocity there
-    (4–6), with the friction coefficient (7); the cloth solver keeps the point on its side
-    until the next response (:func:`catwalk.cloth.contact_planes.apply_planes`)."""
-    planes[i, 0] = nx
-    planes[i, 1] = ny
-    planes[i, 2] = nz
-    planes[i, 3] = nx * px + ny * py + nz * pz + thickness - s
-    planes[i, 4] = bvx
-    planes[i, 5] = bvy
-    planes[i, 6] = bvz
-    planes[i, 7] = friction
+    (``planes[i]``, :data:`catwalk.cloth.state.PLANE_COLUMNS` numbers) is the body's surface
+    offset by ``thickness``, n·x ≥ n·p + thickness − s (``PLANE_NORMAL``: n, ``PLANE_OFFSET``:
+    that offset), moving with the body's velocity there (``PLANE_VELOCITY``), with the friction
+    coefficient (``PLANE_FRICTION``); the cloth solver keeps the point on its side until the
+    next response (:func:`catwalk.cloth.contact_planes.apply_planes`)."""
+    planes[i, PLANE_NORMAL] = nx
+    planes[i, PLANE_NORMAL + 1] = ny
+    planes[i, PLANE_NORMAL + 2] = nz
+    planes[i, PLANE_OFFSET] = nx * px + ny * py + nz * pz + thickness - s
+    planes[i, PLANE_VELOCITY] = bvx
+    planes[i, PLANE_VELOCITY + 1] = bvy
+    planes[i, PLANE_VELOCITY + 2] = bvz
+    planes[i, PLANE_FRICTION] = friction
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def has_no_plane(planes, i):
+    """Whether point i has no contact plane (a zero normal)."""
+    return planes[i, PLANE_NORMAL] == 0.0 and planes[i, PLANE_NORMAL + 1] == 0.0 and \
+        planes[i, PLANE_NORMAL + 2] == 0.0
 
 
 @numba.njit(cache=True, _nrt=False, inline="always")
@@ -47,7 +56,7 @@ def near_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, f
     :func:`record_plane`, unless the point already has one (a held point's plane, or the
     nearer surface's), so that between two responses the solver stops it at the surface
     instead of the next response finding it inside."""
-    if planes[i, 0] == 0.0 and planes[i, 1] == 0.0 and planes[i, 2] == 0.0:
+    if has_no_plane(planes, i):
         record_plane(planes, i, px, py, pz, nx, ny, nz, s, thickness, bvx, bvy, bvz, friction)
 
 

@@ -10,7 +10,8 @@ import math
 import numba
 import numpy as np
 
-from catwalk.collide.bvh import closest_triangle_t, swept_lower
+from catwalk.cloth.state import PLANE_NORMAL, PLANE_OFFSET, PLANE_VELOCITY
+from catwalk.collide.bvh import SPD_LEAVES, SPD_PRUNED, closest_triangle_t, swept_lower
 from catwalk.collide.kernels.record import fill_record, rec_velocity, signed_rec
 from catwalk.collide.kernels.response import pinch
 from catwalk.collide.kernels.stats import ST_NODES, ST_PINCH, ST_SECOND, ST_TRIS
@@ -73,8 +74,9 @@ def second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx,
                            stats)
     best = np.inf
     t2 = -1
-    s0 = spd[0]
-    s1_ = spd[1]
+    # the search's speed accumulators are the point's own search's: kept
+    s0 = spd[SPD_PRUNED]
+    s1_ = spd[SPD_LEAVES]
     for k2 in range(n_parts):
         if k2 == kt or not part_active[k2] or not reach[k2] or csw[i, k2] - crel[i] > radius:
             continue
@@ -86,8 +88,8 @@ def second_surface(pos, vel, i, kt, s1, n1x, n1y, n1z, w1x, w1y, w1z, alpha, rx,
         if tk >= 0 and d2o < best:
             best = d2o
             t2 = tk
-    spd[0] = s0
-    spd[1] = s1_
+    spd[SPD_PRUNED] = s0
+    spd[SPD_LEAVES] = s1_
     if t2 < 0:
         return False
     fill_record(rec2, 0, vb, faces, t2)
@@ -113,11 +115,13 @@ def fold(pos, vel, i, s2, n2x, n2y, n2z, w2x, w2y, w2z, thickness, friction, pla
     to the plain push (it keeps it outside the first: s1 = thickness before, less at most
     thickness − s2), and a point already put between two parts (whose plane says thickness
     for a narrower gap) is left to the second-surface check. Returns whether it was moved."""
-    n1x = planes[i, 0]
-    n1y = planes[i, 1]
-    n1z = planes[i, 2]
+    n1x = planes[i, PLANE_NORMAL]
+    n1y = planes[i, PLANE_NORMAL + 1]
+    n1z = planes[i, PLANE_NORMAL + 2]
     if s2 >= 0.0 or (n1x == 0.0 and n1y == 0.0 and n1z == 0.0):
         return False
-    s1 = n1x * pos[i, 0] + n1y * pos[i, 1] + n1z * pos[i, 2] - planes[i, 3] + thickness
-    return pinch(pos, vel, i, s1, n1x, n1y, n1z, planes[i, 4], planes[i, 5], planes[i, 6], s2,
-                 n2x, n2y, n2z, w2x, w2y, w2z, thickness, friction, planes)
+    s1 = n1x * pos[i, 0] + n1y * pos[i, 1] + n1z * pos[i, 2] - planes[i, PLANE_OFFSET] + \
+        thickness
+    return pinch(pos, vel, i, s1, n1x, n1y, n1z, planes[i, PLANE_VELOCITY],
+                 planes[i, PLANE_VELOCITY + 1], planes[i, PLANE_VELOCITY + 2], s2, n2x, n2y, n2z,
+                 w2x, w2y, w2z, thickness, friction, planes)
