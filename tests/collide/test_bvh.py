@@ -156,8 +156,8 @@ def test_closest_triangle_t_matches_brute_force_and_box_distances_are_exact():
         np.testing.assert_allclose(vpl[vidx], blended[vidx], rtol=0, atol=1e-12)
         p = centre + rng.normal(0, 0.08, 3)
         d2, t, nodes, tested, frame_d2 = B.closest_triangle_t(
-            *p, vpl, lf, alpha, *r, nbl, h.links, h.tris, h.root[1], np.inf, -1, stack, 1.0,
-            spd)
+            *p, B.TreeAt(vpl, lf, nbl, h.links, h.tris), h.root[1], B.SearchTime(alpha, *r, 1.0),
+            np.inf, -1, stack, spd)
         bd2, bt = _brute(p, blended, m.faces, arm)
         assert np.isclose(d2, bd2, rtol=1e-9, atol=1e-15) and t in set(arm)
         assert tested < len(arm) / 3

@@ -17,6 +17,7 @@ pre-order, so children come after parents and a refit walks a part's node range 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 from dataclasses import dataclass
 
 import numba
@@ -50,6 +51,13 @@ NODE_COLUMNS = 16
 #: nodes pruned of their speed less their distance over the rest of the frame, and the max
 #: speed of the leaves visited
 SPD_PRUNED, SPD_LEAVES = 0, 1
+#: a search's time (:func:`closest_triangle_t`): ``alpha`` of the frame, the frame's reference
+#: displacement (``rx``, ``ry``, ``rz``: the swept boxes' moving frame) and 1 / the rest of the
+#: frame (``inv_t``)
+SearchTime = namedtuple("SearchTime", "alpha rx ry rz inv_t")
+#: the hierarchies as the searches read them at one time (:func:`blend_at`): the vertices
+#: ``vpl``, each reference's vertices ``lf``, the nodes' table ``nbl``, ``links``, ``tris``
+TreeAt = namedtuple("TreeAt", "vpl lf nbl links tris")
 
 
 @dataclass
@@ -138,30 +146,25 @@ def build(vertices, faces, part_faces: dict, leaf_size: int = 8, max_depth: int 
 @numba.njit(cache=True)
 def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, tris, scratch):
     """Depth-first build of one part's hierarchy (see :func:`build`) into preallocated arrays;
-    returns (nodes, triangle references), or (−1, −1) when a buffer was too small."""
+    returns (nodes, triangle references), or (−1, −1) when a buffer was too small.
+
+    The triangles' boxes ``tlo``/``thi`` (T,3); ``scratch``: the id lists of the nodes on the
+    stack, each node's children's lists going on top of the live ones."""
     n = ids.shape[0]
     # the stack: per entry its ids' slice of scratch, box, depth, and the parent to link
+    # (−1: the root, or a left child; else the node whose *right* child it is)
     max_stack = 2 * max_depth + 4
-    st_start = np.empty(max_stack, np.int64)
-    st_len = np.empty(max_stack, np.int64)
-    st_box = np.empty((max_stack, 6))
-    st_depth = np.empty(max_stack, np.int64)
-    st_parent = np.empty(max_stack, np.int64)  # −1: root; else the node whose *right* child
+    stack = (np.empty(max_stack, np.int64), np.empty(max_stack, np.int64),
+             np.empty((max_stack, 6)), np.empty(max_stack, np.int64),
+             np.empty(max_stack, np.int64))
+    st_start, st_len, st_box, st_depth, st_parent = stack
     if 4 * n > scratch.shape[0]:
         return -1, -1
     for k in range(n):
         scratch[k] = ids[k]
-    sp = 0
     st_start[0] = 0
     st_len[0] = n
-    for q in range(3):
-        st_box[0, BOX_LO + q] = np.inf
-        st_box[0, BOX_HI + q] = -np.inf
-    for k in range(n):
-        t = ids[k]
-        for q in range(3):
-            st_box[0, BOX_LO + q] = min(st_box[0, BOX_LO + q], tlo[t, q])
-            st_box[0, BOX_HI + q] = max(st_box[0, BOX_HI + q], thi[t, q])
+    _box_of(tlo, thi, scratch, 0, n, st_box, 0)
     st_depth[0] = 0
     st_parent[0] = -1
     sp = 1
@@ -169,15 +172,11 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
     nr = 0
     blo = np.empty(3)
     bhi = np.empty(3)
-    ax0 = 0
-    ax1 = 0
-    best_axis = 0
     while sp > 0:
         sp -= 1
         s0 = st_start[sp]
         m = st_len[sp]
         depth = st_depth[sp]
-        parent = st_parent[sp]
         # scratch above this list and the live lists below it on the stack is free again
         top = s0 + m
         if sp > 0:
@@ -189,16 +188,9 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
             return -1, -1
         idx = nn
         nn += 1
-        if parent >= 0:
-            links[parent, LINK_RIGHT] = idx
-        for q in range(3):
-            bounds[idx, BOX_LO + q] = np.inf
-            bounds[idx, BOX_HI + q] = -np.inf
-        for k in range(s0, s0 + m):
-            t = scratch[k]
-            for q in range(3):
-                bounds[idx, BOX_LO + q] = min(bounds[idx, BOX_LO + q], tlo[t, q])
-                bounds[idx, BOX_HI + q] = max(bounds[idx, BOX_HI + q], thi[t, q])
+        if st_parent[sp] >= 0:
+            links[st_parent[sp], LINK_RIGHT] = idx
+        _box_of(tlo, thi, scratch, s0, m, bounds, idx)
         links[idx, LINK_LEFT] = -1
         links[idx, LINK_RIGHT] = -1
         links[idx, LINK_START] = 0
@@ -206,51 +198,7 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
         axis = -1
         mid = 0.0
         if m > leaf_size and depth < max_depth:
-            # halve the node's box across its largest dimension; if that copies too many
-            # triangles into both halves, the axis that copies fewest (big nodes must split)
-            best_sum = m * 3
-            best_mid = 0.0
-            first = True
-            for rank in range(3):
-                # axes by decreasing extent
-                a = 0
-                ea = -1.0
-                for q in range(3):
-                    e = bounds[idx, BOX_HI + q] - bounds[idx, BOX_LO + q]
-                    taken = (rank >= 1 and q == ax0) or (rank >= 2 and q == ax1)
-                    if not taken and e > ea:
-                        ea = e
-                        a = q
-                if rank == 0:
-                    ax0 = a
-                elif rank == 1:
-                    ax1 = a
-                if not (ea > 0.0):
-                    continue
-                md = 0.5 * (bounds[idx, BOX_LO + a] + bounds[idx, BOX_HI + a])
-                nl = 0
-                nrr = 0
-                for k in range(s0, s0 + m):
-                    t = scratch[k]
-                    r = thi[t, a] > md
-                    if r:
-                        nrr += 1
-                    if tlo[t, a] < md or not r:
-                        nl += 1
-                if nl < m and nrr < m:
-                    if first and nl + nrr <= max_dup * m:
-                        axis = a
-                        mid = md
-                        break
-                    if nl + nrr < best_sum:
-                        best_sum = nl + nrr
-                        best_axis = a
-                        best_mid = md
-                first = False
-            if axis < 0 and best_sum < m * 3:
-                if best_sum <= max_dup * m or (m > 4 * leaf_size and best_sum <= 1.5 * m):
-                    axis = best_axis
-                    mid = best_mid
+            axis, mid = _split_plane(tlo, thi, scratch, s0, m, bounds, idx, leaf_size, max_dup)
         if axis < 0:
             if nr + m > tris.shape[0]:
                 return -1, -1
@@ -263,41 +211,128 @@ def _build_kernel(tlo, thi, ids, leaf_size, max_depth, max_dup, bounds, links, t
         # children's id lists go on top of scratch: left, then right
         if top + 2 * m > scratch.shape[0] or sp + 2 > max_stack:
             return -1, -1
-        ls = top
-        for k in range(s0, s0 + m):
-            t = scratch[k]
-            if tlo[t, axis] < mid or not (thi[t, axis] > mid):
-                scratch[top] = t
-                top += 1
-        rs = top
-        for k in range(s0, s0 + m):
-            t = scratch[k]
-            if thi[t, axis] > mid:
-                scratch[top] = t
-                top += 1
+        ls, rs, top = _partition(tlo, thi, scratch, s0, m, top, axis, mid)
         # push right first (popped after the whole left subtree), then left (next node)
-        st_start[sp] = rs
-        st_len[sp] = top - rs
-        for q in range(3):
-            st_box[sp, BOX_LO + q] = blo[q]
-            st_box[sp, BOX_HI + q] = bhi[q]
-        st_box[sp, BOX_LO + axis] = mid
-        st_depth[sp] = depth + 1
-        st_parent[sp] = idx
-        sp += 1
-        st_start[sp] = ls
-        st_len[sp] = rs - ls
-        for q in range(3):
-            st_box[sp, BOX_LO + q] = blo[q]
-            st_box[sp, BOX_HI + q] = bhi[q]
-        st_box[sp, BOX_HI + axis] = mid
-        st_depth[sp] = depth + 1
-        st_parent[sp] = -1
-        sp += 1
+        _push(stack, sp, rs, top - rs, blo, bhi, BOX_LO + axis, mid, depth + 1, idx)
+        _push(stack, sp + 1, ls, rs - ls, blo, bhi, BOX_HI + axis, mid, depth + 1, -1)
+        sp += 2
         links[idx, LINK_LEFT] = idx + 1
     return nn, nr
 
 
+@numba.njit(cache=True)
+def _box_of(tlo, thi, scratch, s0, m, out, row):
+    """``out[row]`` (:data:`BOX_LO`, :data:`BOX_HI`): the box of the triangles
+    ``scratch[s0 : s0 + m]``."""
+    for q in range(3):
+        out[row, BOX_LO + q] = np.inf
+        out[row, BOX_HI + q] = -np.inf
+    for k in range(s0, s0 + m):
+        t = scratch[k]
+        for q in range(3):
+            out[row, BOX_LO + q] = min(out[row, BOX_LO + q], tlo[t, q])
+            out[row, BOX_HI + q] = max(out[row, BOX_HI + q], thi[t, q])
+
+
+@numba.njit(cache=True)
+def _split_plane(tlo, thi, scratch, s0, m, bounds, idx, leaf_size, max_dup):
+    """Where node idx (its triangles ``scratch[s0 : s0 + m]``, its box ``bounds[idx]``) is
+    halved: its box's largest dimension at its middle; if that copies too many triangles into
+    both halves (more than ``max_dup`` × m), the axis that copies fewest (big nodes must
+    split). Returns (axis, the plane's coordinate), axis −1 for a leaf."""
+    axis = -1
+    mid = 0.0
+    best_sum = m * 3
+    best_axis = 0
+    best_mid = 0.0
+    first = True
+    ax0 = 0
+    ax1 = 0
+    for rank in range(3):
+        # axes by decreasing extent
+        a = 0
+        ea = -1.0
+        for q in range(3):
+            e = bounds[idx, BOX_HI + q] - bounds[idx, BOX_LO + q]
+            taken = (rank >= 1 and q == ax0) or (rank >= 2 and q == ax1)
+            if not taken and e > ea:
+                ea = e
+                a = q
+        if rank == 0:
+            ax0 = a
+        elif rank == 1:
+            ax1 = a
+        if not (ea > 0.0):
+            continue
+        md = 0.5 * (bounds[idx, BOX_LO + a] + bounds[idx, BOX_HI + a])
+        nl, nrr = _split_counts(tlo, thi, scratch, s0, m, a, md)
+        if nl < m and nrr < m:
+            if first and nl + nrr <= max_dup * m:
+                axis = a
+                mid = md
+                break
+            if nl + nrr < best_sum:
+                best_sum = nl + nrr
+                best_axis = a
+                best_mid = md
+        first = False
+    if axis < 0 and best_sum < m * 3:
+        if best_sum <= max_dup * m or (m > 4 * leaf_size and best_sum <= 1.5 * m):
+            axis = best_axis
+            mid = best_mid
+    return axis, mid
+
+
+@numba.njit(cache=True)
+def _split_counts(tlo, thi, scratch, s0, m, axis, mid):
+    """How many of the triangles ``scratch[s0 : s0 + m]`` go left and right of the plane at
+    ``mid`` across ``axis`` (one spanning it goes both ways, one merely touching it to its
+    side)."""
+    nl = 0
+    nr = 0
+    for k in range(s0, s0 + m):
+        t = scratch[k]
+        r = thi[t, axis] > mid
+        if r:
+            nr += 1
+        if tlo[t, axis] < mid or not r:
+            nl += 1
+    return nl, nr
+
+
+@numba.njit(cache=True)
+def _partition(tlo, thi, scratch, s0, m, top, axis, mid):
+    """The children's id lists of the triangles ``scratch[s0 : s0 + m]`` split at ``mid``
+    across ``axis``, written from ``top`` on: left, then right. Returns (left's start,
+    right's start, the new top)."""
+    ls = top
+    for k in range(s0, s0 + m):
+        t = scratch[k]
+        if tlo[t, axis] < mid or not (thi[t, axis] > mid):
+            scratch[top] = t
+            top += 1
+    rs = top
+    for k in range(s0, s0 + m):
+        t = scratch[k]
+        if thi[t, axis] > mid:
+            scratch[top] = t
+            top += 1
+    return ls, rs, top
+
+
+@numba.njit(cache=True)
+def _push(stack, sp, start, length, blo, bhi, cut, mid, depth, parent):
+    """Stack entry sp: an id list's slice of scratch, its cell (the box ``blo``/``bhi`` with
+    column ``cut`` set to ``mid``), its depth and the node to link it to."""
+    st_start, st_len, st_box, st_depth, st_parent = stack
+    st_start[sp] = start
+    st_len[sp] = length
+    for q in range(3):
+        st_box[sp, BOX_LO + q] = blo[q]
+        st_box[sp, BOX_HI + q] = bhi[q]
+    st_box[sp, cut] = mid
+    st_depth[sp] = depth
+    st_parent[sp] = parent
 
 
 def leaf_vertices(h: Hierarchy, faces) -> tuple[np.ndarray, np.ndarray]:
@@ -481,36 +516,103 @@ def blend_at(vp, nb, first, last, vidx, alpha, nbl, vpl):
         vpl[v, 0], vpl[v, 1], vpl[v, 2] = vp_at(vp, v, b, alpha)
 
 
+@numba.njit(cache=True, _nrt=False, inline="always")
+def offset_to_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz):
+    """q − p, q the point of triangle abc nearest to p."""
+    v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+    return (ax + v * (bx - ax) + w * (cx - ax) - px,
+            ay + v * (by - ay) + w * (cy - ay) - py,
+            az + v * (bz - az) + w * (cz - az) - pz)
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _push_children(px, py, pz, nbl, links, nd, stack, sp):
+    """Node nd's children onto the stack at ``sp``, the one whose centre is nearer to p on
+    top (walked first); returns the new top."""
+    l = links[nd, LINK_LEFT]
+    r = links[nd, LINK_RIGHT]
+    cl = 0.0
+    cr = 0.0
+    for q in range(3):
+        c = px if q == 0 else (py if q == 1 else pz)
+        e = nbl[l, NL_CENTRE + q] - c
+        cl += e * e
+        e = nbl[r, NL_CENTRE + q] - c
+        cr += e * e
+    if cl < cr:
+        stack[sp] = r
+        stack[sp + 1] = l
+    else:
+        stack[sp] = l
+        stack[sp + 1] = r
+    return sp + 2
+
+
+@numba.njit(cache=True, _nrt=False, inline="always")
+def _leaf_closest(px, py, pz, tree, nd, best_d2, best_t):
+    """Leaf nd's triangles nearer to p than √best_d2 (each first by its box, branch-free);
+    returns (best_d2, best_t, triangles tested)."""
+    vpl = tree.vpl
+    lf = tree.lf
+    links = tree.links
+    tested = 0
+    for s in range(links[nd, LINK_START], links[nd, LINK_START] + links[nd, LINK_COUNT]):
+        ia = lf[s, 0]
+        ib = lf[s, 1]
+        ic = lf[s, 2]
+        ax = vpl[ia, 0]
+        ay = vpl[ia, 1]
+        az = vpl[ia, 2]
+        bx = vpl[ib, 0]
+        by = vpl[ib, 1]
+        bz = vpl[ib, 2]
+        cx = vpl[ic, 0]
+        cy = vpl[ic, 1]
+        cz = vpl[ic, 2]
+        x = max(max(min(ax, min(bx, cx)) - px, px - max(ax, max(bx, cx))), 0.0)
+        y = max(max(min(ay, min(by, cy)) - py, py - max(ay, max(by, cy))), 0.0)
+        z = max(max(min(az, min(bz, cz)) - pz, pz - max(az, max(bz, cz))), 0.0)
+        d = x * x + y * y + z * z
+        if d >= best_d2:
+            continue
+        tested += 1
+        qx, qy, qz = offset_to_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
+        d = qx * qx + qy * qy + qz * qz
+        if d < best_d2:
+            best_d2 = d
+            best_t = tree.tris[s]
+    return best_d2, best_t, tested
+
+
 @numba.njit(cache=True, _nrt=False)
-def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris, root,
-                       best_d2, best_t, stack, inv_t, spd):
-    """Closest triangle to p among one part's hierarchy at time ``alpha``, if nearer than
-    √best_d2, with the part's pose at that time and its nodes' bounds over the frame
-    (``nbl`` (K,16), :data:`NODE_COLUMNS`: the node boxes blended at ``alpha`` — tighter than
-    the box swept over the frame: a fast limb is pruned where it is at that time — the
-    centres children are ordered by, the boxes swept over the frame and the nodes' speeds;
-    :func:`blend_at`, :func:`swept_boxes`) and ``vpl`` (N,3) the vertices at ``alpha``.
-    ``lf`` (R,3) int32 the vertices of each reference of ``tris`` (a leaf's are read in
-    sequence, not through the faces).
-    Returns (best_d2, best_t, nodes
-    visited, triangles tested, frame_d2): frame_d2 is a lower bound of the squared distance,
-    for the whole frame and in the frame moving by the reference displacement (rx, ry, rz),
-    from the point to every triangle of the part (over the leaves visited and the subtrees
-    pruned).
+def closest_triangle_t(px, py, pz, tree, root, at, best_d2, best_t, stack, spd):
+    """Closest triangle to p among one part's hierarchy (its ``root``) at the search's time
+    (``at``, :data:`SearchTime`), if nearer than √best_d2, with the part's pose at that time
+    and its nodes' bounds over the frame (``tree``, :data:`TreeAt`: ``nbl``
+    (:data:`NODE_COLUMNS`: the node boxes blended at ``alpha`` — tighter than the box swept
+    over the frame: a fast limb is pruned where it is at that time — the centres children are
+    ordered by, the boxes swept over the frame and the nodes' speeds; :func:`blend_at`,
+    :func:`swept_boxes`), ``vpl`` (N,3) the vertices at ``alpha``, ``lf`` (R,3) int32 the
+    vertices of each reference of ``tris`` (a leaf's are read in sequence, not through the
+    faces)). Returns (best_d2, best_t, nodes visited, triangles tested, frame_d2): frame_d2 is
+    a lower bound of the squared distance, for the whole frame and in the frame moving by the
+    reference displacement (rx, ry, rz), from the point to every triangle of the part (over
+    the leaves visited and the subtrees pruned).
 
     ``spd`` (2,) accumulates, for the point's speed bound after the search (see
     :func:`catwalk.collide.kernels.object_space.object_pass`): ``spd[SPD_PRUNED]`` the max over
     pruned nodes of m − d·``inv_t`` (m the node's speed, d its box distance now, inv_t 1 / the
     rest of the frame), ``spd[SPD_LEAVES]`` the max speed of the leaves visited."""
+    nbl = tree.nbl
     stack[0] = root
     sp = 1
     visited = 0
     tested = 0
     frame_d2 = np.inf
     # the point in the frame moving with the reference displacement (the swept boxes')
-    mx = px - alpha * rx
-    my = py - alpha * ry
-    mz = pz - alpha * rz
+    mx = px - at.alpha * at.rx
+    my = py - at.alpha * at.ry
+    mz = pz - at.alpha * at.rz
     while sp > 0:
         sp -= 1
         nd = stack[sp]
@@ -520,65 +622,23 @@ def closest_triangle_t(px, py, pz, vpl, lf, alpha, rx, ry, rz, nbl, links, tris,
             ds = swept_d2(mx, my, mz, nbl, nd)
             if ds < frame_d2:
                 frame_d2 = ds
-            sv = nbl[nd, NL_SPEED] - math.sqrt(d) * inv_t
+            sv = nbl[nd, NL_SPEED] - math.sqrt(d) * at.inv_t
             if sv > spd[SPD_PRUNED]:
                 spd[SPD_PRUNED] = sv
             continue
-        if links[nd, LINK_LEFT] >= 0:
+        if tree.links[nd, LINK_LEFT] >= 0:
             if sp + 2 > stack.shape[0]:
                 frame_d2 = 0.0  # (never: the stack holds 2 × the depth limit)
                 continue
-            l = links[nd, LINK_LEFT]
-            r = links[nd, LINK_RIGHT]
-            cl = 0.0
-            cr = 0.0
-            for q in range(3):
-                c = px if q == 0 else (py if q == 1 else pz)
-                e = nbl[l, NL_CENTRE + q] - c
-                cl += e * e
-                e = nbl[r, NL_CENTRE + q] - c
-                cr += e * e
-            if cl < cr:
-                stack[sp] = r
-                stack[sp + 1] = l
-            else:
-                stack[sp] = l
-                stack[sp + 1] = r
-            sp += 2
+            sp = _push_children(px, py, pz, nbl, tree.links, nd, stack, sp)
             continue
         ds = swept_d2(mx, my, mz, nbl, nd)
         if ds < frame_d2:
             frame_d2 = ds
         if nbl[nd, NL_SPEED] > spd[SPD_LEAVES]:
             spd[SPD_LEAVES] = nbl[nd, NL_SPEED]
-        for s in range(links[nd, LINK_START], links[nd, LINK_START] + links[nd, LINK_COUNT]):
-            ia = lf[s, 0]
-            ib = lf[s, 1]
-            ic = lf[s, 2]
-            ax = vpl[ia, 0]
-            ay = vpl[ia, 1]
-            az = vpl[ia, 2]
-            bx = vpl[ib, 0]
-            by = vpl[ib, 1]
-            bz = vpl[ib, 2]
-            cx = vpl[ic, 0]
-            cy = vpl[ic, 1]
-            cz = vpl[ic, 2]
-            x = max(max(min(ax, min(bx, cx)) - px, px - max(ax, max(bx, cx))), 0.0)
-            y = max(max(min(ay, min(by, cy)) - py, py - max(ay, max(by, cy))), 0.0)
-            z = max(max(min(az, min(bz, cz)) - pz, pz - max(az, max(bz, cz))), 0.0)
-            d = x * x + y * y + z * z
-            if d >= best_d2:
-                continue
-            tested += 1
-            v, w = closest_on_triangle(px, py, pz, ax, ay, az, bx, by, bz, cx, cy, cz)
-            qx = ax + v * (bx - ax) + w * (cx - ax) - px
-            qy = ay + v * (by - ay) + w * (cy - ay) - py
-            qz = az + v * (bz - az) + w * (cz - az) - pz
-            d = qx * qx + qy * qy + qz * qz
-            if d < best_d2:
-                best_d2 = d
-                best_t = tris[s]
+        best_d2, best_t, nt = _leaf_closest(px, py, pz, tree, nd, best_d2, best_t)
+        tested += nt
     return best_d2, best_t, visited, tested, frame_d2
 
 

@@ -20,6 +20,9 @@ from catwalk.collide.kernels.image_space import (
     PATT_COLUMNS,
     PDEP_COLUMNS,
     PKEY_COLUMNS,
+    ImageConfig,
+    ImageMaps,
+    ImagePoints,
     image_pass,
 )
 from catwalk.collide.kernels.stats import ST_SKIPPED
@@ -79,8 +82,8 @@ class DepthMaps:
     def render(self, slot, v, n, w, region=None):
         """Draw a slot over ``region`` (r0, r1, c0, c1) of the pixel grid (default: all)."""
         r0, r1, c0, c1 = region or self.full
-        render_maps(self.matrix, v, n, w, self.vidx, self.faces, self.sv, self.attrs, slot,
-                      self.D, self.A, self.tri, r0, r1, c0, c1)
+        render_maps(self.matrix, (v, n, w), self.vidx, self.faces, (self.sv, self.attrs),
+                    (self.D, self.A, self.tri), slot, (r0, r1, c0, c1))
         self.region[slot] = (r0, r1, c0, c1)
 
     def need(self, lo, hi, pad):
@@ -216,11 +219,13 @@ class ImagePass:
             self._patt = np.zeros((n, PATT_COLUMNS), np.float32)
             self._pwin = np.zeros(n, np.int8)
             self._n = n
+            # (the groups go to the kernel as plain tuples, as the object pass's)
+            self._points = tuple(ImagePoints(self._pkey, self._pdep, self._patt, self._pwin))
 
         # on the calling thread whatever the collider's threads (kernels.image_space.image_pass)
-        image_pass(s.pos, s.vel, s.alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
-                     self.lo, self.hi, col.thickness, col.friction, col.contact_slack,
-                     col.plane_band, col.min_normal_z, col.skips.far_points, held, col.stats,
-                     self._pkey, self._pdep, self._patt, col.planes, edge, col.edge_normal_z,
-                     self._pwin)
+        maps = tuple(ImageMaps(mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version))
+        cfg = tuple(ImageConfig(col.thickness, col.friction, col.contact_slack, col.plane_band,
+                                col.min_normal_z, col.edge_normal_z, col.skips.far_points))
+        image_pass(s.pos, s.vel, held, col.planes, edge, col.stats, s.alpha, self.lo, self.hi,
+                   maps, cfg, self._points)
         col.timings.image_queries += cpu_time() - t

@@ -12,17 +12,18 @@ from catwalk.collide import bvh as B
 from catwalk.collide.bvh import NB_COLUMNS, NB_FRAME, NB_LO0, NB_LO1, VP_COLUMNS
 from catwalk.collide.collider import N_PARTS, Substep, cpu_time
 from catwalk.collide.kernels.boxes import body_motion, bounds_of
-from catwalk.collide.kernels.object_space import (
+from catwalk.collide.kernels.object_inputs import (
     CLK_BODY,
     CLK_TIME,
     CLK_TRAVEL,
     N_CLOCKS,
     ObjectBody,
+    ObjectCloth,
     ObjectConfig,
     ObjectPoints,
     ObjectTime,
-    object_pass,
 )
+from catwalk.collide.kernels.object_space import object_pass
 from catwalk.collide.kernels.record import REC_COLUMNS, VB_COLUMNS, pack_body
 from catwalk.collide.kernels.stats import ST_SKIPPED
 
@@ -97,7 +98,7 @@ class ObjectPass:
         # clocks at the start of this frame: the moving frame's travel (3), the body's travel
         # relative to it (an upper bound: the sum of the frames' body speeds); with the time
         # (frame + alpha) the object pass measures each point's motion since it last saw it
-        # (the clocks' columns: kernels.object_space.CLK_TRAVEL …; the time, CLK_TIME, last)
+        # (the clocks' columns: kernels.object_inputs.CLK_TRAVEL …; the time, CLK_TIME, last)
         self._clock0 = np.zeros(CLK_TIME)   # the clocks before the time
         self._clock = np.zeros(N_CLOCKS)
         self._packed_frame = -1
@@ -254,23 +255,24 @@ class ObjectPass:
         ck[CLK_TIME] = col._frame + s.alpha
         t = cpu_time()
 
-        # the groups go to the kernel as plain tuples (it unpacks them by position): numba
-        # types a named tuple ≈ 6 µs slower a call, and a walk frame makes 30–240 calls; the
+        # the groups go to the kernel as plain tuples (it names them again inside: numba
+        # types a named tuple ≈ 6 µs slower a call, and a walk frame makes 30–240 calls); the
         # body's and the points' are made once (their arrays change in place)
+        cloth = tuple(ObjectCloth(s.pos, s.vel, s.prev, held, col.planes))
         now = tuple(ObjectTime(s.alpha, s.alpha_prev, col._frame, self._ref, ck,
-                                 self._body_speed))
+                               self._body_speed))
         body = self._body
         cfg = tuple(ObjectConfig(col.thickness, col.friction, col.contact_slack,
-                                   col.search_radius, col.max_depth,
-                                   col.skips.far_points or bool((col._present & ~active).any()),
-                                   col.skips.reuse_closest and not recheck, col.reuse_tol,
-                                   col.skips.clearance, col.second_surface, col.plane_band,
-                                   recheck))
+                                 col.search_radius, col.max_depth,
+                                 col.skips.far_points or bool((col._present & ~active).any()),
+                                 col.skips.reuse_closest and not recheck, col.reuse_tol,
+                                 col.skips.clearance, col.second_surface, col.plane_band,
+                                 recheck))
         arrays = pts.arrays
 
         def points(start, stop, stack, reach, spd, rec2, stats):
-            object_pass(s.pos, s.vel, s.prev, held, col.planes, only, active, s.lo, s.hi,
-                          now, body, cfg, arrays, (stack, reach, spd, rec2, stats), start, stop)
+            object_pass(cloth, only, active, s.lo, s.hi, now, body, cfg, arrays,
+                        (stack, reach, spd, rec2, stats), start, stop)
 
         col._split(points, n, only)
         col.timings.object_queries += cpu_time() - t
