@@ -3,8 +3,19 @@ import pytest
 from scipy.ndimage import binary_dilation
 
 from catwalk.collide import MODES, Skips, make_collider
-from catwalk.collide.collider import face_parts
-from catwalk.collide.shapes import Mannequin, capsule, figure10_pose, sphere, walk_pose
+from catwalk.collide.collider import NO_MASK, face_parts
+from catwalk.collide.kernels.stats import STAT_NAMES
+from catwalk.collide.object import ObjectCollider
+from catwalk.collide.shapes import (
+    Mannequin,
+    capsule,
+    figure10_pose,
+    merge,
+    notched_prism,
+    notched_prism_depth,
+    sphere,
+    walk_pose,
+)
 from catwalk.errors import CatwalkError
 from catwalk.geometry.raster import ortho_view, rasterize
 
@@ -388,8 +399,6 @@ def test_a_point_another_pass_had_is_not_judged_by_where_it_was_long_ago():
     is no crossing test and no search radius. The scene: an open sheet (one part, as a limb
     cut at its rim); the point seen in front of it, then, unseen, moved beside and behind its
     plane, 35 cm from its edge: nothing to answer there."""
-    from catwalk.collide.collider import NO_MASK
-    from catwalk.collide.object import ObjectCollider
 
     class TakingTurns(ObjectCollider):
         only = NO_MASK
@@ -436,8 +445,6 @@ def test_the_frames_last_answer_puts_a_point_between_the_faces_of_a_fold(mode, t
     the two; another response does not (the next one sees the point again). ``torso``: a
     torso ball 4.5 cm above (in hybrid the maps and the all-parts pass then take part, as on
     a body, and the second look is the all-parts pass's)."""
-    from catwalk.collide.kernels import STAT_NAMES
-    from catwalk.collide.shapes import merge, notched_prism, notched_prism_depth
 
     v, f = notched_prism()
     parts = np.full(len(v), 1, np.int8)

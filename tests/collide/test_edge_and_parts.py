@@ -12,8 +12,8 @@
 import numpy as np
 import pytest
 
-from catwalk.collide import kernels as K
 from catwalk.collide import make_collider
+from catwalk.collide.kernels.stats import ST_PINCH
 from catwalk.collide.shapes import merge, sphere
 
 T = 0.004
@@ -165,7 +165,7 @@ def test_cloth_in_a_gap_narrower_than_twice_the_thickness_keeps_half_of_it_from_
         out_hand = np.linalg.norm(p - hand_c, axis=1) - 0.025
         gaps[second] = np.minimum(out_knee, out_hand).min()
         if second:
-            assert c.stats[K.ST_PINCH] == len(pts)  # every one pinched
+            assert c.stats[ST_PINCH] == len(pts)  # every one pinched
             # in the middle of the gap: 2.5 mm from each (tessellation: ±0.5 mm)
             assert np.abs(out_knee - out_hand).max() < 0.001
             # its contact plane runs through it, across the gap (normal ≈ the knee–hand
@@ -191,7 +191,7 @@ def test_overlapping_parts_are_left_to_the_nearest_surface():
         c.update(v)
         p = pts.copy()
         c.resolve(p, np.zeros_like(p), pts.copy())
-        assert c.stats[K.ST_PINCH] == 0
+        assert c.stats[ST_PINCH] == 0
         out.append(p)
     np.testing.assert_array_equal(out[0], out[1])
 

@@ -165,7 +165,7 @@ def _walk_figures(w) -> dict:
         **walk_errors(s),
         "cloth_steps_per_frame": s["cloth_steps_per_frame"],
         "collisions_per_frame": s["collisions_per_frame"],
-        # the collider's counters a response (collide.kernels.STAT_NAMES; "boxed": the
+        # the collider's counters a response (collide.kernels.stats.STAT_NAMES; "boxed": the
         # points searched in a hierarchy or looked up in the maps, "reused": answered by
         # their kept triangle, "clearance_skips": far enough not to look)
         "collider_counts_per_response": {

@@ -14,7 +14,8 @@ def contact_velocity(vx, vy, vz, nx, ny, nz, wx, wy, wz, friction):
     """A point's velocity v after it meets a surface of unit normal n moving at w: if it moves
     into the surface (relative to it), that normal part goes and, by Coulomb friction, μ times
     as much of its sliding speed (stopping at zero). Shared by the collider's response
-    (:func:`catwalk.collide.kernels.respond`) and the contact planes (:func:`apply_planes`)."""
+    (:func:`catwalk.collide.kernels.response.respond`) and the contact planes
+    (:func:`apply_planes`)."""
     rx = vx - wx
     ry = vy - wy
     rz = vz - wz

@@ -11,6 +11,9 @@ from catwalk.cloth.model import ClothModel
 
 #: numbers per contact plane in :attr:`State.planes` (normal 3, offset, body velocity 3, μ)
 PLANE_COLUMNS = 8
+#: a contact plane's columns: the unit normal (3), the offset, the body's velocity there (3),
+#: the friction coefficient
+PLANE_NORMAL, PLANE_OFFSET, PLANE_VELOCITY, PLANE_FRICTION = 0, 3, 4, 7
 
 
 @dataclass

@@ -38,8 +38,9 @@ Method:
 
 * **Image space** (torso+head in ``hybrid``, everything in ``image``): two orthographic depth
   maps, front (nearest surface) and back (farthest), 256×256 by default, over the mapped parts'
-  bounding box seen from +Z, drawn on the CPU by ``kernels.render_maps`` (the rasteriser of
-  :mod:`catwalk.geometry.raster`, both faces at once, only where the cloth can reach) with
+  bounding box seen from +Z, drawn on the CPU by ``kernels.depth_maps.render_maps`` (the
+  rasteriser of :mod:`catwalk.geometry.raster`, both faces at once, only where the cloth can
+  reach) with
   per-pixel interpolated vertex normal and body velocity. A point is inside when its depth lies
   between the back and the front surfaces at its pixel (bilinear over covered pixels, linear in
   time between the previous and the current frame's maps); it goes to the nearer surface.

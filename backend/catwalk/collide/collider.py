@@ -25,9 +25,12 @@ from typing import NamedTuple
 import numpy as np
 
 from catwalk.body.types import PART_NAMES, PART_TORSO
-from catwalk.cloth.state import PLANE_COLUMNS
+from catwalk.cloth.state import PLANE_COLUMNS, PLANE_NORMAL
 from catwalk.collide import bvh as B
-from catwalk.collide import kernels as K
+from catwalk.collide.kernels.boxes import bounds
+from catwalk.collide.kernels.object_inputs import Workspace
+from catwalk.collide.kernels.record import REC_COLUMNS
+from catwalk.collide.kernels.stats import N_STATS
 from catwalk.collide.sharp import SHARP_DEPTH, push_off_sharp, sharp_vertices
 from catwalk.errors import InputError
 from catwalk.geometry.raster import incident_faces, vertex_normals, vertex_normals_kernel
@@ -119,13 +122,13 @@ class Substep(NamedTuple):
     final: bool = False
 
 
-def _workspace(stats: np.ndarray | None = None) -> K.Workspace:
+def _workspace(stats: np.ndarray | None = None) -> Workspace:
     """A thread's scratch for the object passes (the kernels never allocate): the
     hierarchy walk's stack, the part reach, two scratch arrays, and its counters (``stats``,
     or new ones)."""
-    return K.Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
-                       np.zeros((1, 54), np.float32),
-                       np.zeros(K.N_STATS, np.int64) if stats is None else stats)
+    return Workspace(np.empty(B.STACK_SIZE, np.int64), np.zeros(N_PARTS, bool), np.zeros(2),
+                       np.zeros((1, REC_COLUMNS), np.float32),
+                       np.zeros(N_STATS, np.int64) if stats is None else stats)
 
 
 def face_parts(faces, parts) -> np.ndarray:
@@ -147,26 +150,53 @@ def _checked_body(body_faces, parts) -> tuple[np.ndarray, np.ndarray]:
     return faces, parts
 
 
-def _checked_options(thickness, search_radius, max_depth, edge_normal_z, friction, threads,
-                     map_size, plane_band) -> tuple[int, int]:
-    """Raise on a bad option; returns the map size (width, height)."""
-    if not (np.isfinite(plane_band) and 0.0 <= plane_band <= MAX_PLANE_BAND):
-        raise InputError(f"plane_band must be within 0–{MAX_PLANE_BAND} m, got {plane_band!r}")
-    for name, val in (("thickness", thickness), ("search_radius", search_radius),
-                      ("max_depth", max_depth)):
-        if not (np.isfinite(val) and val > 0):
-            raise InputError(f"{name} must be a positive length in metres, got {val!r}")
-    if not (np.isfinite(edge_normal_z) and 0.0 <= edge_normal_z <= 1.0):
-        raise InputError(f"edge_normal_z must be within 0..1, got {edge_normal_z!r}")
-    if not (np.isfinite(friction) and friction >= 0):
-        raise InputError(f"friction must be >= 0, got {friction!r}")
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
-            not 1 <= threads <= 64:
-        raise InputError(f"threads must be a whole number within 1–64, got {threads!r}")
-    ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
-    if len(ms) != 2 or min(ms) < 8 or max(ms) > 8192:
-        raise InputError(f"map size must be 8..8192 pixels, got {map_size!r}")
-    return ms
+@dataclass(frozen=True)
+class ColliderOptions:
+    """The options every mode takes (:func:`~catwalk.collide.make_collider`'s keywords, as
+    given; :meth:`checked` raises on a bad one). Lengths in metres."""
+
+    map_size: int | tuple[int, int] = (256, 256)   # depth-map pixels (width, height), or one
+    thickness: float = 0.004        # the cloth's: points are kept this far off the surface
+    friction: float = 0.3           # Coulomb's μ of the response
+    contact_slack: float = 0.0005   # a point within thickness + this is held
+    search_radius: float = 0.02     # how far the object passes look beyond a point's motion
+    max_depth: float = 0.02         # deeper, a point collides only if it crossed the surface
+    reuse_tol: float = 0.002        # a point's closest triangle is kept while it moves less
+    leaf_size: int = 8              # triangles in a hierarchy's leaf
+    map_margin: float = 0.03        # round the mapped parts' box, of the maps' grid
+    still_tol: float = 1e-6         # the mapped parts moved less: the maps are not redrawn
+    min_normal_z: float = 0.2       # a map's normal leans to at least this slope to its camera
+    edge_normal_z: float = 0.5      # hybrid: a slope below this is left to object space
+    map_region_pad: float = 0.05    # round the region the cloth can reach, of the maps drawn
+    # a point near its closest part may be inside another one (cloth pinched between a hand
+    # and the thigh, an arm and the torso): look for it (kernels.second_surface)
+    second_surface: bool = True
+    skips: Skips | None = None      # the shortcuts (None: all on)
+    threads: int = 1                # the object passes over slices of the points at once
+    plane_band: float = 0.0         # points not held but this near get a contact plane too
+
+    def checked(self) -> tuple[int, int]:
+        """Raise on a bad option; returns the map size (width, height)."""
+        if not (np.isfinite(self.plane_band) and 0.0 <= self.plane_band <= MAX_PLANE_BAND):
+            raise InputError(f"plane_band must be within 0–{MAX_PLANE_BAND} m, "
+                             f"got {self.plane_band!r}")
+        for name in ("thickness", "search_radius", "max_depth"):
+            val = getattr(self, name)
+            if not (np.isfinite(val) and val > 0):
+                raise InputError(f"{name} must be a positive length in metres, got {val!r}")
+        if not (np.isfinite(self.edge_normal_z) and 0.0 <= self.edge_normal_z <= 1.0):
+            raise InputError(f"edge_normal_z must be within 0..1, got {self.edge_normal_z!r}")
+        if not (np.isfinite(self.friction) and self.friction >= 0):
+            raise InputError(f"friction must be >= 0, got {self.friction!r}")
+        threads = self.threads
+        if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or \
+                not 1 <= threads <= 64:
+            raise InputError(f"threads must be a whole number within 1–64, got {threads!r}")
+        map_size = self.map_size
+        ms = (map_size, map_size) if np.isscalar(map_size) else tuple(map_size)
+        if len(ms) != 2 or min(ms) < 8 or max(ms) > 8192:
+            raise InputError(f"map size must be 8..8192 pixels, got {map_size!r}")
+        return ms
 
 
 #: the torso's sharp vertices per first pose (a digest of its torso vertices): a worker
@@ -186,54 +216,32 @@ class Collider:
     edge_fallback = False   # hybrid's fallbacks (hybrid.py); off in the other modes
     limb_fallback = False
 
-    def __init__(self, body_faces, parts, *, map_size=(256, 256), thickness=0.004,
-                 friction=0.3, contact_slack=0.0005, search_radius=0.02, max_depth=0.02,
-                 reuse_tol=0.002,
-                 leaf_size=8, map_margin=0.03, still_tol=1e-6, min_normal_z=0.2, edge_normal_z=0.5,
-                 map_region_pad=0.05, second_surface=True, skips: Skips | None = None,
-                 threads: int = 1, plane_band=0.0):
+    def __init__(self, body_faces, parts, **options):
+        """``options``: :class:`ColliderOptions`' fields by name."""
+        o = ColliderOptions(**options)
         faces, parts = _checked_body(body_faces, parts)
-        self._map_size = _checked_options(thickness, search_radius, max_depth, edge_normal_z,
-                                          friction, threads, map_size, plane_band)
-        self._map_margin = float(map_margin)
+        self._map_size = o.checked()
         self.faces = np.ascontiguousarray(faces, dtype=np.int64)
         self.parts = parts.astype(np.int8)
         self.n_vertices = len(parts)
         self.face_part = face_parts(self.faces, self.parts)
         self._present = np.bincount(self.face_part, minlength=N_PARTS) > 0   # parts with faces
-        self.thickness = float(thickness)
-        self.friction = float(friction)
-        self.contact_slack = float(contact_slack)
-        # points not held but within this of the surface get a contact plane too
-        self.plane_band = float(plane_band)
-        self.search_radius = float(search_radius)
-        self.max_depth = float(max_depth)
-        self.reuse_tol = float(reuse_tol)
-        self.still_tol = float(still_tol)
-        self.min_normal_z = float(min_normal_z)
-        self.edge_normal_z = float(edge_normal_z)
-        self.map_region_pad = float(map_region_pad)
-        self.leaf_size = int(leaf_size)
-        # a point near its closest part may be inside another one (cloth pinched between a
-        # hand and the thigh, an arm and the torso): look for it (kernels._second_surface)
-        self.second_surface = bool(second_surface)
-        self.skips = skips or Skips()
+        self._take_options(o)
         # the parts in the depth maps, in hierarchies, with a hierarchy: the mode's (_use_parts)
         self.map_parts, self.tree_parts, self.hier_parts = np.zeros((3, N_PARTS), bool)
         self._image_pass = None    # image_pass.ImagePass: the depth maps, for the mapped parts
         self._object_pass = None   # object_pass.ObjectPass: the hierarchies, for hier_parts
         self._init_frames()
         # with threads > 1 the object passes run over slices of the points at once, each
-        # thread with its own workspaces (kernels.object_pass; the image pass stays on the
-        # calling thread)
-        self.threads = int(threads)
+        # thread with its own workspaces (kernels.object_space.object_pass; the image pass
+        # stays on the calling thread)
         self._pool = None
         self._thread_ws = [_workspace() for _ in range(self.threads - 1)]
-        self.stats = np.zeros(K.N_STATS, np.int64)
+        self.stats = np.zeros(N_STATS, np.int64)
         self._ws = _workspace(self.stats)   # the calling thread's
         # (P, 8) after each resolve: the contact planes of the held points and of those within
         # plane_band of the surface (normal, offset, the body's velocity, friction; normal 0
-        # for the others), see kernels.record_plane
+        # for the others), see kernels.response.record_plane
         self.planes = np.zeros((0, PLANE_COLUMNS))
         self.timings = Timings()
         self._first_v = None          # the first pose given to update()
@@ -242,6 +250,26 @@ class Collider:
         self._sharp_csr_key = None
         self._sharp_src = self._sharp_tris = None   # the triangles last given, as given/int64
         self._sharp_n = -1
+
+    def _take_options(self, o: ColliderOptions) -> None:
+        """The options as the collider's attributes (numbers as float, int or bool; the
+        callers may change ``friction`` between walks)."""
+        self._map_margin = float(o.map_margin)
+        self.thickness = float(o.thickness)
+        self.friction = float(o.friction)
+        self.contact_slack = float(o.contact_slack)
+        self.plane_band = float(o.plane_band)
+        self.search_radius = float(o.search_radius)
+        self.max_depth = float(o.max_depth)
+        self.reuse_tol = float(o.reuse_tol)
+        self.still_tol = float(o.still_tol)
+        self.min_normal_z = float(o.min_normal_z)
+        self.edge_normal_z = float(o.edge_normal_z)
+        self.map_region_pad = float(o.map_region_pad)
+        self.leaf_size = int(o.leaf_size)
+        self.second_surface = bool(o.second_surface)
+        self.skips = o.skips or Skips()
+        self.threads = int(o.threads)
 
     def _init_frames(self):
         """No body frame yet: :meth:`update` gives them."""
@@ -385,13 +413,13 @@ class Collider:
         if self.planes.shape[0] != n:
             self.planes = np.zeros((n, PLANE_COLUMNS))
         else:
-            self.planes[:, :3] = 0.0
+            self.planes[:, PLANE_NORMAL:PLANE_NORMAL + 3] = 0.0
         if n == 0:
             return held
         lo = np.full(3, np.inf)
         hi = np.full(3, -np.inf)
-        K.bounds(pos, lo, hi)
-        K.bounds(prev, lo, hi)
+        bounds(pos, lo, hi)
+        bounds(prev, lo, hi)
         self._resolve(Substep(pos, vel, prev, alpha, alpha_prev, lo, hi, bool(final)), held)
         return held
 

@@ -108,7 +108,7 @@ class HybridCollider(Collider):
             # a point a limb just pushed may now be inside the torso, which that pass does not
             # see (the maps looked before it): such points again in object space against every
             # part, where the torso facing the limb is seen — the pinch (kernels.
-            # _second_surface) puts the point between the two
+            # second_surface.second_surface) puts the point between the two
             again = hl & ~self._edge if flagged else hl.copy()
             if again.any():
                 self._edge_pts = op.run(self, s, he, reach, self._edge_pts, again)

@@ -1,29 +1,48 @@
 """Image space: the mapped parts' front and back depth maps (:class:`DepthMaps`) and the pass
 that looks cloth points up in them (:class:`ImagePass`, over
-:func:`catwalk.collide.kernels.image_pass`); the method is in :mod:`catwalk.collide`."""
+:func:`catwalk.collide.kernels.image_space.image_pass`); the method is in
+:mod:`catwalk.collide`."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from catwalk.collide import kernels as K
 from catwalk.collide.collider import Substep, cpu_time
+from catwalk.collide.kernels.boxes import bounds_of, max_displacement
+from catwalk.collide.kernels.depth_maps import (
+    N_ATTRS,
+    SIDE_BACK,
+    SIDE_FRONT,
+    map_region,
+    render_maps,
+)
+from catwalk.collide.kernels.image_space import (
+    PATT_COLUMNS,
+    PDEP_COLUMNS,
+    PKEY_COLUMNS,
+    ImageConfig,
+    ImageMaps,
+    ImagePoints,
+    image_pass,
+)
+from catwalk.collide.kernels.stats import ST_SKIPPED
 from catwalk.geometry.raster import ortho_view
 
 
 class DepthMaps:
     """Front and back depth maps (two slots: the previous and the current frame) of a set of
-    faces, packed for look-ups (see :func:`catwalk.collide.kernels.image_pass`)."""
+    faces, packed for look-ups (see :func:`catwalk.collide.kernels.image_space.image_pass`)."""
 
-    def __init__(self, faces, face_ids, size, margin, k=6):
+    def __init__(self, faces, face_ids, size, margin, k=N_ATTRS):
         f = np.asarray(faces, dtype=np.int64)[face_ids]
         self.vidx, inv = np.unique(f, return_inverse=True)
         self.faces = inv.reshape(-1, 3).astype(np.int64)
         self.size = (int(size[0]), int(size[1]))
         self.margin = float(margin)
         w, h = self.size
+        # the layout: kernels.depth_maps
         self.D = np.full((h, w, 2, 2), -np.inf, np.float32)   # [row, col, slot, side]
-        self.D[:, :, :, 1] = np.inf
+        self.D[:, :, :, SIDE_BACK] = np.inf
         self.A = np.zeros((h, w, 2, 2, k), np.float32)       # [row, col, side, slot, attr]
         self.tri = np.full((2, 2, h, w), -1, np.int32)        # [slot, side, row, col]
         self.cur = 0
@@ -45,8 +64,8 @@ class DepthMaps:
         keep the old grid while they stay inside it. Returns True when the grid changed."""
         lo = np.full(3, np.inf)
         hi = np.full(3, -np.inf)
-        K.bounds_of(v_a, self.vidx, lo, hi)
-        K.bounds_of(v_b, self.vidx, lo, hi)
+        bounds_of(v_a, self.vidx, lo, hi)
+        bounds_of(v_b, self.vidx, lo, hi)
         if self.grid_lo is not None and np.all(lo[:2] >= self.grid_lo[:2]) and \
                 np.all(hi[:2] <= self.grid_hi[:2]):
             return False
@@ -63,14 +82,14 @@ class DepthMaps:
     def render(self, slot, v, n, w, region=None):
         """Draw a slot over ``region`` (r0, r1, c0, c1) of the pixel grid (default: all)."""
         r0, r1, c0, c1 = region or self.full
-        K.render_maps(self.matrix, v, n, w, self.vidx, self.faces, self.sv, self.attrs, slot,
-                      self.D, self.A, self.tri, r0, r1, c0, c1)
+        render_maps(self.matrix, (v, n, w), self.vidx, self.faces, (self.sv, self.attrs),
+                    (self.D, self.A, self.tri), slot, (r0, r1, c0, c1))
         self.region[slot] = (r0, r1, c0, c1)
 
     def need(self, lo, hi, pad):
         """The rows and columns whose pixels the look-ups of points in the box [lo, hi]
         (world, grown by ``pad``) can read (2×2 blocks), clipped to the grid."""
-        K.map_region(self.matrix, lo, hi, pad, self.size[0], self.size[1], self._need)
+        map_region(self.matrix, lo, hi, pad, self.size[0], self.size[1], self._need)
         return tuple(int(x) for x in self._need)
 
     def covers(self, slot, need) -> bool:
@@ -81,8 +100,9 @@ class DepthMaps:
     def front_back(self, slot):
         """(front depth, back depth, covered) of a slot, float64 copies; covered: both sides
         drawn (what the look-ups answer from)."""
-        return (self.D[:, :, slot, 0].astype(np.float64), self.D[:, :, slot, 1].astype(np.float64),
-                (self.tri[slot, 0] >= 0) & (self.tri[slot, 1] >= 0))
+        return (self.D[:, :, slot, SIDE_FRONT].astype(np.float64),
+                self.D[:, :, slot, SIDE_BACK].astype(np.float64),
+                (self.tri[slot, SIDE_FRONT] >= 0) & (self.tri[slot, SIDE_BACK] >= 0))
 
 
 class ImagePass:
@@ -106,13 +126,13 @@ class ImagePass:
         self.ready = False
         self.lo[:] = np.inf
         self.hi[:] = -np.inf
-        K.bounds_of(col.v0, vidx, self.lo, self.hi)
-        K.bounds_of(col.v1, vidx, self.lo, self.hi)
+        bounds_of(col.v0, vidx, self.lo, self.hi)
+        bounds_of(col.v1, vidx, self.lo, self.hi)
         pad = col.thickness + col.search_radius
         self.lo -= pad
         self.hi += pad
-        moved = K.max_displacement(col.v0, col.v1, vidx)
-        wmoved = K.max_displacement(col.w0, col.w1, vidx)
+        moved = max_displacement(col.v0, col.v1, vidx)
+        wmoved = max_displacement(col.w0, col.w1, vidx)
         self.still = (not first) and col.skips.still_torso and \
             moved <= col.still_tol and wmoved <= col.still_tol
 
@@ -187,23 +207,25 @@ class ImagePass:
         (P,) bool, or empty: marks the points the maps leave to object space (hybrid's edge
         fallback; those marked on entry are left alone)."""
         if col.skips.unreached_parts and (np.any(self.lo > s.hi) or np.any(self.hi < s.lo)):
-            col.stats[K.ST_SKIPPED] += len(s.pos)
+            col.stats[ST_SKIPPED] += len(s.pos)
             return
         self.ensure(col, s.lo, s.hi)
         mp = self.maps
         t = cpu_time()
         n = len(s.pos)
         if self._n != n:
-            self._pkey = np.full((n, 3), -1, np.int64)
-            self._pdep = np.zeros((n, 16), np.float32)
-            self._patt = np.zeros((n, 12), np.float32)
+            self._pkey = np.full((n, PKEY_COLUMNS), -1, np.int64)
+            self._pdep = np.zeros((n, PDEP_COLUMNS), np.float32)
+            self._patt = np.zeros((n, PATT_COLUMNS), np.float32)
             self._pwin = np.zeros(n, np.int8)
             self._n = n
+            # (the groups go to the kernel as plain tuples, as the object pass's)
+            self._points = tuple(ImagePoints(self._pkey, self._pdep, self._patt, self._pwin))
 
-        # on the calling thread whatever the collider's threads (kernels.image_pass)
-        K.image_pass(s.pos, s.vel, s.alpha, mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version,
-                     self.lo, self.hi, col.thickness, col.friction, col.contact_slack,
-                     col.plane_band, col.min_normal_z, col.skips.far_points, held, col.stats,
-                     self._pkey, self._pdep, self._patt, col.planes, edge, col.edge_normal_z,
-                     self._pwin)
+        # on the calling thread whatever the collider's threads (kernels.image_space.image_pass)
+        maps = tuple(ImageMaps(mp.matrix, mp.D, mp.A, mp.prev, mp.cur, mp.version))
+        cfg = tuple(ImageConfig(col.thickness, col.friction, col.contact_slack, col.plane_band,
+                                col.min_normal_z, col.edge_normal_z, col.skips.far_points))
+        image_pass(s.pos, s.vel, held, col.planes, edge, col.stats, s.alpha, self.lo, self.hi,
+                   maps, cfg, self._points)
         col.timings.image_queries += cpu_time() - t

@@ -17,9 +17,9 @@ def make_collider(mode, body_faces, parts, **options) -> Collider:
     """A collider in ``mode`` (``hybrid``: torso+head in depth maps, limbs in hierarchies;
     ``image``: the whole body in depth maps; ``object``: every part in hierarchies) for a body
     with faces (M,3) and per-vertex ``parts`` (N,) (0 torso+head, 1 left arm, 2 right arm,
-    3 left leg, 4 right leg). Options: see :class:`~catwalk.collide.collider.Collider`
+    3 left leg, 4 right leg). Options: :class:`~catwalk.collide.collider.ColliderOptions`
     (thickness, friction, map_size, search_radius, max_depth, reuse_tol, leaf_size,
-    second_surface, edge_normal_z, skips=Skips(...), threads) and the mode's class (hybrid:
+    second_surface, edge_normal_z, skips=Skips(...), threads, …) and the mode's class (hybrid:
     edge_fallback, limb_fallback); every mode takes every mode's options, those of another
     mode having no effect."""
     if mode not in MODES:

@@ -53,12 +53,50 @@ def sharp_vertices(vertices: np.ndarray, normals: np.ndarray, radius: float = SH
 @numba.njit(cache=True)
 def push_off_sharp(x, tris, ptr, pt_tri, cand, V, N, thickness, depth, cell, moved):
     """Push the cloth triangles a sharp body vertex comes through (module docstring) out of
-    it; ``x`` (P, 3) cloth positions, changed in place; ``cand`` the sharp vertices of the
-    body ``V``/``N`` (positions, unit normals); ``moved`` (P,) bool: set for the points moved
+    it; ``x`` (P, 3) cloth positions, changed in place; ``tris`` the cloth's triangles, each
+    point's in ``pt_tri[ptr[i] : ptr[i + 1]]``; ``cand`` the sharp vertices of the body
+    ``V``/``N`` (positions, unit normals); ``moved`` (P,) bool: set for the points moved
     (empty: not kept). Returns how many pushes were made."""
     P = x.shape[0]
     if P == 0 or cand.shape[0] == 0:
         return 0
+    lo, cell, dims, start, order = _point_grid(x, cell)
+    pushes = 0
+    reach2 = (2.0 * cell) * (2.0 * cell)
+    for ci in range(cand.shape[0]):
+        j = cand[ci]
+        px = V[j, 0]
+        py = V[j, 1]
+        pz = V[j, 2]
+        gx = int((px - lo[0]) / cell)
+        gy = int((py - lo[1]) / cell)
+        gz = int((pz - lo[2]) / cell)
+        if gx < 0 or gy < 0 or gz < 0 or gx >= dims[0] or gy >= dims[1] or gz >= dims[2]:
+            continue
+        for ax in range(max(gx - 1, 0), min(gx + 2, dims[0])):
+            for ay in range(max(gy - 1, 0), min(gy + 2, dims[1])):
+                for az in range(max(gz - 1, 0), min(gz + 2, dims[2])):
+                    c = (ax * dims[1] + ay) * dims[2] + az
+                    for s in range(start[c], start[c + 1]):
+                        i = order[s]
+                        dx = x[i, 0] - px
+                        dy = x[i, 1] - py
+                        dz = x[i, 2] - pz
+                        if dx * dx + dy * dy + dz * dz > reach2:
+                            continue
+                        pushes += _push_triangles_of(x, i, tris, ptr, pt_tri, V, N, j,
+                                                     thickness, depth, moved)
+    return pushes
+
+
+@numba.njit(cache=True)
+def _point_grid(x, cell):
+    """The cloth points ``x`` in a uniform grid over their box grown by a cell (cells of
+    ``cell`` metres, coarser when that would make more than ~2 million: coarser cells only
+    look further). Returns (the grid's corner ``lo``, the cell size, the cells a side
+    ``dims``, each cell's start in ``order`` (``start``, cells + 1), the points cell after
+    cell ``order``)."""
+    P = x.shape[0]
     lo = np.empty(3)
     hi = np.empty(3)
     for q in range(3):
@@ -68,7 +106,6 @@ def push_off_sharp(x, tris, ptr, pt_tri, cand, V, N, thickness, depth, cell, mov
         for q in range(3):
             lo[q] = min(lo[q], x[i, q])
             hi[q] = max(hi[q], x[i, q])
-    # at most ~2 million cells, whatever the cloth's extent (coarser cells only look further)
     vol = (hi[0] - lo[0] + 2.0 * cell) * (hi[1] - lo[1] + 2.0 * cell) * (hi[2] - lo[2] + 2.0 * cell)
     cell = max(cell, (vol / 2.0e6) ** (1.0 / 3.0))
     dims = np.empty(3, np.int64)
@@ -91,54 +128,44 @@ def push_off_sharp(x, tris, ptr, pt_tri, cand, V, N, thickness, depth, cell, mov
     for i in range(P):
         order[fill[key[i]]] = i
         fill[key[i]] += 1
+    return lo, cell, dims, start, order
+
+
+@numba.njit(cache=True)
+def _push_triangles_of(x, i, tris, ptr, pt_tri, V, N, j, thickness, depth, moved):
+    """The triangles of cloth point i that body vertex j's ray (from it along its normal)
+    meets less than ``thickness`` out or up to ``depth`` behind: each pushed out along the
+    normal to the thickness, its points moved by their barycentric weights (w_i / Σ w_j²).
+    Returns how many."""
+    px = V[j, 0]
+    py = V[j, 1]
+    pz = V[j, 2]
+    nx = N[j, 0]
+    ny = N[j, 1]
+    nz = N[j, 2]
     pushes = 0
-    reach2 = (2.0 * cell) * (2.0 * cell)
-    for ci in range(cand.shape[0]):
-        j = cand[ci]
-        px = V[j, 0]
-        py = V[j, 1]
-        pz = V[j, 2]
-        nx = N[j, 0]
-        ny = N[j, 1]
-        nz = N[j, 2]
-        gx = int((px - lo[0]) / cell)
-        gy = int((py - lo[1]) / cell)
-        gz = int((pz - lo[2]) / cell)
-        if gx < 0 or gy < 0 or gz < 0 or gx >= dims[0] or gy >= dims[1] or gz >= dims[2]:
+    for e in range(ptr[i], ptr[i + 1]):
+        t = pt_tri[e]
+        a = tris[t, 0]
+        b = tris[t, 1]
+        cc = tris[t, 2]
+        # ray p + s·n against the triangle
+        hit, dist, u, v = ray_triangle(
+            px, py, pz, nx, ny, nz, x[a, 0], x[a, 1], x[a, 2], x[b, 0],
+            x[b, 1], x[b, 2], x[cc, 0], x[cc, 1], x[cc, 2], 1e-14)
+        if not hit:
             continue
-        for ax in range(max(gx - 1, 0), min(gx + 2, dims[0])):
-            for ay in range(max(gy - 1, 0), min(gy + 2, dims[1])):
-                for az in range(max(gz - 1, 0), min(gz + 2, dims[2])):
-                    c = (ax * dims[1] + ay) * dims[2] + az
-                    for s in range(start[c], start[c + 1]):
-                        i = order[s]
-                        dx = x[i, 0] - px
-                        dy = x[i, 1] - py
-                        dz = x[i, 2] - pz
-                        if dx * dx + dy * dy + dz * dz > reach2:
-                            continue
-                        for e in range(ptr[i], ptr[i + 1]):
-                            t = pt_tri[e]
-                            a = tris[t, 0]
-                            b = tris[t, 1]
-                            cc = tris[t, 2]
-                            # ray p + s·n against the triangle
-                            hit, dist, u, v = ray_triangle(
-                                px, py, pz, nx, ny, nz, x[a, 0], x[a, 1], x[a, 2], x[b, 0],
-                                x[b, 1], x[b, 2], x[cc, 0], x[cc, 1], x[cc, 2], 1e-14)
-                            if not hit:
-                                continue
-                            if dist >= thickness - 1e-6 or dist <= -depth:
-                                continue
-                            push = thickness - dist
-                            w0 = 1.0 - u - v
-                            den = w0 * w0 + u * u + v * v
-                            for q, wq in ((a, w0), (b, u), (cc, v)):
-                                k = push * wq / den
-                                x[q, 0] += k * nx
-                                x[q, 1] += k * ny
-                                x[q, 2] += k * nz
-                                if moved.shape[0]:
-                                    moved[q] = True
-                            pushes += 1
+        if dist >= thickness - 1e-6 or dist <= -depth:
+            continue
+        push = thickness - dist
+        w0 = 1.0 - u - v
+        den = w0 * w0 + u * u + v * v
+        for q, wq in ((a, w0), (b, u), (cc, v)):
+            k = push * wq / den
+            x[q, 0] += k * nx
+            x[q, 1] += k * ny
+            x[q, 2] += k * nz
+            if moved.shape[0]:
+                moved[q] = True
+        pushes += 1
     return pushes

@@ -32,7 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from catwalk.body.measure import _Slicer, _topology
+from catwalk.body.measure.slicing import AREA, CX, CZ, PERIM, XMIN, ZMAX, Slicer
+from catwalk.body.measure.topology import mesh_topology
 from catwalk.errors import InputError
 from catwalk.exchange.gltf import check_meshes
 from catwalk.exchange.source import read_source
@@ -262,17 +263,17 @@ def _sections(v, faces, axis, fractions, length, lo):
     """Horizontal-ish sections perpendicular to ``axis`` at the given fractions of the length
     measured from coordinate ``lo``: per level (perimeters, centroids (k, 2), areas, level,
     boxes (k, 4))."""
-    topo = _topology(faces, len(v))
+    topo = mesh_topology(faces, len(v))
     v = topo.extend(v)  # holes are closed by fans (extra vertices) for slicing
     others = [a for a in range(3) if a != axis]
-    sl = _Slicer(topo, v[:, axis], v[:, others[0]], v[:, others[1]])
+    sl = Slicer(topo, v[:, axis], v[:, others[0]], v[:, others[1]])
     levels = np.sort(lo + np.asarray(fractions) * length)
     sec = sl.slice(levels)
     out = []
     for k in range(len(levels)):
         cs = sec.comps(k)
-        out.append((sec.stats[cs, 0], sec.stats[cs][:, 2:4], sec.stats[cs, 1], levels[k],
-                    sec.stats[cs][:, 4:8]))
+        out.append((sec.stats[cs, PERIM], sec.stats[cs][:, CX:CZ + 1], sec.stats[cs, AREA],
+                    levels[k], sec.stats[cs][:, XMIN:ZMAX + 1]))
     return out
 
 

@@ -31,7 +31,7 @@ from catwalk.body.types import Motion
 from catwalk.cloth.solvers import ClothExplosionError
 from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.collide import make_collider
-from catwalk.collide.kernels import STAT_NAMES
+from catwalk.collide.kernels.stats import STAT_NAMES
 from catwalk.errors import Cancelled
 from catwalk.geometry.surface import BodySurface, segments_crossing
 from catwalk.simulate.dressing import Dressed
@@ -174,7 +174,7 @@ def walk(body, motion: Motion, dressed: Dressed, settings: Settings | None = Non
         "body_triangles": int(len(body.faces)), "collider": settings.collider,
         "cloth_steps_per_frame": steps_per_frame,
         **tally.stats(model, nf, t_body * 1e3 / len(verts)),
-        # the collider's counters over the recorded frames (collide.kernels.STAT_NAMES), and
+        # the collider's counters over the recorded frames (collide.kernels.stats.STAT_NAMES), and
         # its calls: each frame's responses and its closing one
         "collider_counts": dict(zip(STAT_NAMES, (collider.stats - counts0).tolist(),
                                     strict=True)),
