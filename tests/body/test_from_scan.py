@@ -274,3 +274,25 @@ def test_a_glb_scan_with_no_skin_is_a_scan_to_the_tryon(tmp_path):
     trimesh.Trimesh(sy.to_file_frame(v) / 1000.0, f, process=False).export(str(path))
     body = load_body(path)
     assert body.meta["fit"] == "surface" and body.skeleton is not None
+
+
+def test_a_front_only_scan_cut_behind_the_centre_is_refused_by_every_command(tmp_path, capsys):
+    """The hostile probe's case: the MakeHuman body cut to its faces in front of a plane 5 cm
+    behind its centre (the neck's sections stay open): body measure, body from-scan and tryon
+    --body refuse it with exit 2, "a partial scan?" — no NaN traceback."""
+    from catwalk.body.rig import measured_base_body
+
+    body = measured_base_body(0.0)
+    v, f = np.asarray(body.vertices), np.asarray(body.faces)
+    keep = v[f].mean(axis=1)[:, 2] > v[:, 2].mean() - 0.05
+    path = tmp_path / "front.ply"
+    sy.write_scan(path, v, f[keep])
+    out = tmp_path / "out.glb"
+    garment = Path(__file__).resolve().parents[2] / "garments" / "pencil-skirt.json"
+    for argv in (["body", "measure", str(path)], ["body", "from-scan", str(path), "-o", str(out)],
+                 ["tryon", "--body", str(path), "--garment", str(garment), "--seconds", "1",
+                  "-o", str(out)]):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert "partial scan" in err and "Traceback" not in err and "NaN" not in err, err
+        assert not out.exists()

@@ -147,6 +147,21 @@ def test_a_scan_that_is_not_a_person_says_so(client):
     assert "body" in err["message"] or "human" in err["message"], err
 
 
+def test_a_front_only_scan_is_a_422_naming_the_scan(client):
+    """The hostile probe's scan: the body cut to its faces in front of a plane 5 cm behind its
+    centre (it answered 500: NaN in the neck's measuring box)."""
+    import trimesh
+
+    from catwalk.body.rig import measured_base_body
+
+    body = measured_base_body(0.0)
+    v, f = np.asarray(body.vertices), np.asarray(body.faces)
+    keep = v[f].mean(axis=1)[:, 2] > v[:, 2].mean() - 0.05
+    obj = trimesh.Trimesh(v, f[keep], process=False).export(file_type="obj").encode()
+    err = _error(client.post("/api/bodies", files={"scan": ("front.obj", obj)}), 422, "scan")
+    assert "partial scan" in err["message"], err
+
+
 def test_an_upload_over_the_limit_is_refused_unread(client, storage):
     before = set(storage_files(storage))
     big = b"v 0 0 0\n" * 500_000            # 4 MB, the limit is 3 MB

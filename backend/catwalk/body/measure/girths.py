@@ -35,12 +35,14 @@ def torso_at(meas: Measurement, levels):
     return g, rows
 
 
-def _refine_extremum(meas: Measurement, y_c, sign, half=1.5, n=9, lo=None, hi=None,
-                     width=False):
+def _refine_extremum(meas: Measurement, y_c, sign, what: str, half=1.5, n=9, lo=None,
+                     hi=None, width=False):
     """Refine a max (sign=+1) or min (sign=-1) of the torso girth (or, with ``width``, of
     its left-right width) near y_c (within [lo, hi] if given): a grid, then a
     golden-section search on the exact section, so the extremum moves continuously with
-    the shape. Returns (level, girth there, the loop's stats row)."""
+    the shape. Returns (level, girth there, the loop's stats row). Where no section near
+    y_c closes round the torso (the surface is open: a scan of one side), refuses the body
+    (``what`` names the girth)."""
     a = y_c - half * meas.dy if lo is None else lo
     b = y_c + half * meas.dy if hi is None else hi
     lv = np.linspace(a, b, n)
@@ -71,6 +73,9 @@ def _refine_extremum(meas: Measurement, y_c, sign, half=1.5, n=9, lo=None, hi=No
         fy = f(y)
         if fy > best_f:
             best_y, best_f = y, fy
+    if best_y is None:
+        raise fail(f"the {what} girth does not close round the body (the surface is open "
+                   "there: a partial scan?)")
     g1, r1 = torso_at(meas, [best_y])
     return best_y, float(g1[0]), r1[0]
 
@@ -100,7 +105,7 @@ def girths(meas: Measurement, sex):
     y_bp = _bust_point_level(meas, ys, zmax, span)
     hi = min(y_bp + 0.03, meas.armpit_y - 0.015)
     lo = min(y_bp - 0.03, hi - 0.01)
-    y_b, gbust, r1 = _refine_extremum(meas, y_bp, 1.0, n=13, lo=lo, hi=hi)
+    y_b, gbust, r1 = _refine_extremum(meas, y_bp, 1.0, "bust", n=13, lo=lo, hi=hi)
     out["bust"] = out["chest"] = gbust
     lm["bust"] = _centre(y_b, r1)
     y_top_waist = y_bp - 0.04
@@ -115,7 +120,7 @@ def girths(meas: Measurement, sex):
     if not len(idx):
         raise fail("no waist between the hips and the bust")
     i = idx[int(np.argmin(g[idx]))]
-    y_w, gw, rw = _refine_extremum(meas, ys[i], -1.0)
+    y_w, gw, rw = _refine_extremum(meas, ys[i], -1.0, "waist")
     out["waist"] = gw
     lm["waist"] = _centre(y_w, rw)
     meas.bust_y = y_b
@@ -179,7 +184,7 @@ def neck(meas: Measurement):
         raise fail("no neck found")
     g = meas.sec.stats[meas.torso[ks], PERIM]
     i = int(np.argmin(g))
-    y_n, gn, rn = _refine_extremum(meas, meas.levels[ks[i]], -1.0)
+    y_n, gn, rn = _refine_extremum(meas, meas.levels[ks[i]], -1.0, "neck")
     meas.neck_y = y_n
     meas.neck_row = rn
     return gn
