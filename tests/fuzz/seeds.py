@@ -5,7 +5,10 @@
   also the OBJ in centimetres;
 - body: the same body as catwalk writes it (``catwalk.exchange.gltf.glb_bytes``);
 - DXF: the AAMA/ASTM skirt as Gerber and CLO write it and the plain DXF of
-  ``tests/garment/dxf_fixtures.py``, and a catalogue garment exported by ``write_dxf``;
+  ``tests/garment/dxf_fixtures.py``, a catalogue garment exported by ``write_dxf``, and the
+  skirt with what real exports carry (issue 46: cm under 'Units: METRIC', the sample size's
+  'Quantity: 0', a piece of some sizes, repeated points, small self-crossing loops; as CLO and
+  as Gerber write it) — so the mutations reach the repairs;
 - garments: the catalogue (``garments/*.json``);
 - markup: the FreeSewing markups (``garments/freesewing/markup``) with their drafts, and the
   skirt markup of ``tests/garment/test_dxf.py`` with its DXF;
@@ -80,7 +83,9 @@ def dxfs() -> list[bytes]:
     for name, make in (("gerber.dxf", lambda p: fx.write_pattern(p, style="gerber")),
                        ("clo.dxf", lambda p: fx.write_pattern(p, style="clo", units="METRIC",
                                                               sizes=("M",))),
-                       ("plain.dxf", fx.write_plain)):
+                       ("plain.dxf", fx.write_plain),
+                       ("real-clo.dxf", fx.write_real_export),
+                       ("real-gerber.dxf", lambda p: fx.write_real_export(p, style="gerber"))):
         make(WORK / name)
         out.append((WORK / name).read_bytes())
     write_dxf(load_garment(GARMENTS / "pencil-skirt.json"), WORK / "export.dxf", style="gerber")

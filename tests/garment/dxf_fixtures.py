@@ -197,3 +197,21 @@ def write_real_export(path, *, style="clo"):
     return write_pattern(path, style=style, units="METRIC", drawn_in="cm",
                          quantities={"S": None, "M": 0, "L": None}, extra_pieces=extra,
                          outline=both(corner_twice(k), notch_twice(k), repeated_points(k)))
+
+
+def real_export_markup() -> dict:
+    """write_real_export's markup: the skirt's, numbered as the repaired front is (its notch
+    adds three vertices before the side seam), and the pocket sewn onto the front's hem
+    (eased: it is narrower) in the sizes that have it."""
+    import copy
+
+    m = copy.deepcopy(SKIRT_MARKUP)
+    m["name"] = "Real export skirt"
+    m["panels"]["FRONT"]["placement"]["anchor_vertex"] = 6
+    m["panels"]["POCKET"] = {"name": "pocket", "type": "pocket",
+                             "placement": {"part": "legs", "side": "front", "anchor": "hips"}}
+    for s in m["seams"][:2]:
+        s["a"].update(start=4, end=5)
+    m["seams"].append({"name": "pocket", "a": {"panel": "pocket", "start": 0, "end": 1},
+                       "b": {"panel": "front", "start": 3, "end": 4}, "ease": 0.5})
+    return m
