@@ -433,9 +433,24 @@ def test_a_cm_file_labelled_metric_is_read_in_centimetres(tmp_path):
         in warnings[0]["message"]
     assert _areas(pieces) == pytest.approx(_areas(clean), rel=1e-9)
     with pytest.raises(InputError, match=r"too small for a garment: the largest \(size S\) is "
-                                         r"6\.22 cm across in millimetres \(a garment's"):
+                                         r"6\.22 cm across in millimetres, as given \(a "):
         read_dxf(path, units="mm")
     assert _areas(read_dxf(path, units="cm")[0]) == pytest.approx(_areas(clean), rel=1e-9)
+
+
+def test_pieces_too_small_in_every_unit_are_refused(tmp_path):
+    """A 5 × 3 mm box under $INSUNITS = mm: in cm, inches or metres still not a garment."""
+    import ezdxf
+
+    doc = ezdxf.new("R2010")
+    doc.header["$INSUNITS"] = 4
+    doc.modelspace().add_lwpolyline([(0, 0), (0.05, 0), (0.05, 0.03), (0, 0.03)], close=True)
+    doc.saveas(tmp_path / "tiny.dxf")
+    with pytest.raises(InputError, match=r"the pieces are too small for a garment: the largest "
+                                         r"is 0\.005 cm across in millimetres, as the header's "
+                                         r"\$INSUNITS = 4 says .*; no other unit makes every "
+                                         r"size garment-sized"):
+        read_dxf(tmp_path / "tiny.dxf")
 
 
 @pytest.mark.parametrize("insunits,unit", [(4, "mm"), (5, "cm")])

@@ -55,6 +55,7 @@ MAX_PIECES = 2000          # pieces (all sizes) in one file
 MAX_BYTES = 256 << 20      # a DXF file
 MAX_RUNS = 1000            # boundary polylines of one piece (chained end to end)
 MAX_POINTS = 20_000        # boundary points of one piece
+GUESSES = ("cm", "in", "m")   # what a file too small in its stated units may be drawn in
 UNIT_NAMES = {"in": "inches", "mm": "millimetres", "cm": "centimetres", "m": "metres",
               "ft": "feet"}
 AAMA_UNITS = {"ENGLISH": "in", "METRIC": "mm"}
@@ -331,10 +332,10 @@ def _raw_extent(src: _Source) -> float | None:
 def _fit_units(sources: list[_Source], unit: str, how: str, path: str
                ) -> tuple[str, list[Note]]:
     """The units to read the pieces in. Pieces too small for a garment in the file's units (a
-    size's largest under MIN_GARMENT_EXTENT) are read in the smallest larger unit that makes
-    every size garment-sized (its largest piece MIN_GARMENT_EXTENT – MAX_PANEL_EXTENT), with a
-    note; units given are not second-guessed, and pieces too large are refused as they are
-    read (a 6 m² box is not a garment in any unit)."""
+    size's largest under MIN_GARMENT_EXTENT) are read in the smallest larger unit of GUESSES
+    that makes every size garment-sized (its largest piece MIN_GARMENT_EXTENT –
+    MAX_PANEL_EXTENT), with a note; units given are not second-guessed, and pieces too large
+    are refused as they are read (a 6 m² box is not a garment in any unit)."""
     largest: dict[str, float] = {}
     for s in sources:
         ext = _raw_extent(s)
@@ -350,19 +351,19 @@ def _fit_units(sources: list[_Source], unit: str, how: str, path: str
     lo, hi = span(unit)
     if lo >= MIN_GARMENT_EXTENT or hi > MAX_PANEL_EXTENT:
         return unit, []
-    fits = [u for u in sorted(UNIT_SCALE, key=UNIT_SCALE.get)
-            if UNIT_SCALE[u] > UNIT_SCALE[unit]
+    fits = [u for u in GUESSES if UNIT_SCALE[u] > UNIT_SCALE[unit]
             and span(u)[0] >= MIN_GARMENT_EXTENT and span(u)[1] <= MAX_PANEL_EXTENT]
     small = min(largest, key=largest.get)
     which = f" (size {small})" if len(largest) > 1 else ""
-    said = f"in {UNIT_NAMES[unit]}" + ("" if how == "given" else f", as {how} says")
+    said = f"in {UNIT_NAMES[unit]}, as " + ("given" if how == "given" else f"{how} says")
     if how == "given" or not fits:
         raise InputError(
             f"{path}: the pieces are too small for a garment: the largest{which} is "
             f"{lo * 100:.3g} cm across {said} (a garment's largest piece is "
             f"{MIN_GARMENT_EXTENT * 100:g} cm – {MAX_PANEL_EXTENT:g} m)"
-            + ("" if how == "given" else "; no other unit makes every size garment-sized")
-            + " — are the units right? Give them (--units, or the upload's units)")
+            + (" — are the units given right?" if how == "given" else
+               "; no other unit makes every size garment-sized — are the units right? Give "
+               "them (--units, or the upload's units)"))
     u = fits[0]
     lo2, hi2 = span(u)
     now = f"{lo2 * 100:.3g} cm" if hi2 - lo2 < 5e-4 else \
