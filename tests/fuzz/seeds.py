@@ -10,8 +10,8 @@
   'Quantity: 0', a piece of some sizes, repeated points, small self-crossing loops; as CLO and
   as Gerber write it) — so the mutations reach the repairs;
 - garments: the catalogue (``garments/*.json``);
-- markup: the FreeSewing markups (``garments/freesewing/markup``) with their drafts, and the
-  skirt markup of ``tests/garment/test_dxf.py`` with its DXF;
+- markup: the FreeSewing markups (``garments/freesewing/markup``) with their drafts, the
+  skirt markup of ``tests/garment/test_dxf.py`` with its DXF, and the real export's with its;
 - GarmentCode: the two specifications in ``garments/garmentcode``;
 - try-on files: a try-on .glb of a walking box body in a textured two-panel skirt
   (``tests/exchange/tryon_samples.py``).
@@ -109,8 +109,10 @@ def markups() -> list[tuple[bytes, str]]:
         if draft.is_file():
             out.append((m.read_bytes(), str(draft)))
     dxfs()
-    markup = _module(TESTS / "garment" / "dxf_fixtures.py").SKIRT_MARKUP
-    out.append((json.dumps(markup).encode(), str(WORK / "gerber.dxf")))
+    fx = _module(TESTS / "garment" / "dxf_fixtures.py")
+    out.append((json.dumps(fx.SKIRT_MARKUP).encode(), str(WORK / "gerber.dxf")))
+    # a pocket of some sizes, the repaired outlines' numbering
+    out.append((json.dumps(fx.real_export_markup()).encode(), str(WORK / "real-clo.dxf")))
     return out
 
 
