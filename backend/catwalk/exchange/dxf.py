@@ -16,6 +16,14 @@ is a piece (named after its layer and number).
 
 Damaged files are read with ezdxf's recover mode. Every problem raises
 :class:`catwalk.errors.InputError` naming the file, the piece and the size.
+
+What real exports carry (``docs/garment-format.md``, "What real exports carry") is read, not
+refused: the sample size's ``Quantity: 0`` where the other sizes state none, pieces of some
+sizes only, repeated boundary points and small self-crossing loops
+(:mod:`catwalk.exchange.dxf_repair`), pieces too small in the file's units (read in the unit
+that makes them garment-sized). Each repair and assumption is a warning
+(:class:`~catwalk.exchange.dxf_repair.Note`): returned by :func:`read_dxf` and kept on the
+piece's panel.
 """
 
 from __future__ import annotations
