@@ -6,7 +6,7 @@ import {
 	editPanel, panelCentre, findPanel, renamePanel, removePanel, layoutPanels, grainAngle, setGrainAngle,
 	renameSize, removeSize, moveSize, texturePath, sideFromPicks, sideAsShown, storedReverse, shownReverse,
 	seamLengths, sideLength, runCrossesFold, shownEdge, panelShape, displayFold, straightEdges, setFold,
-	PANEL_TYPES, GARMENT_TYPES, transformPanel,
+	PANEL_TYPES, GARMENT_TYPES, transformPanel, panelSizes, importWarnings, vertexCount,
 } from '../src/merchant/garment-edit.js';
 import { flatten, bounds } from '../src/merchant/geometry.js';
 import { buildScene, sideEnds } from '../src/merchant/scene.js';
@@ -154,6 +154,26 @@ describe( 'names, sizes, layout, grain, fold', () => {
 		expect( g.sizes ).toEqual( [ 'L', 'S' ] );
 		removeSize( g, 'L' );
 		expect( () => removeSize( g, 'S' ) ).toThrow( /at least one size/ );
+
+	} );
+
+	it( 'knows a piece of some sizes only: its sizes, its vertex count, not drawn in the others, not left without a size', () => {
+
+		const g = skirt();
+		const back = findPanel( g, 'back_right' );
+		delete back.shapes.S;   // a piece of sizes M and L only, as a DXF import makes it
+		back.meta = { import_warnings: [ { code: 'sizes', message: 'in sizes M, L only (not in size S): imported in those sizes' } ] };
+		expect( panelSizes( g, 'back_right' ) ).toEqual( [ 'M', 'L' ] );
+		expect( panelSizes( g, 'back_left' ) ).toEqual( [ 'M', 'L' ] );   // its mirrored copy
+		expect( vertexCount( g, 'back_right' ) ).toBe( back.shapes.M.outline.length );
+		expect( importWarnings( g, 'back_left' ).map( ( w ) => w.code ) ).toEqual( [ 'sizes' ] );
+		expect( importWarnings( g, 'front' ) ).toEqual( [] );
+		expect( Object.keys( buildScene( g, 'S' ).pieces ) ).toEqual( [ 'front' ] );
+		expect( straightEdges( back, 'S' ) ).toEqual( straightEdges( back, 'M' ) );
+		delete back.shapes.L;
+		expect( () => removeSize( g, 'M' ) ).toThrow( /only size of back_right: remove that piece first/ );
+		removeSize( g, 'L' );
+		expect( g.sizes ).toEqual( [ 'S', 'M' ] );
 
 	} );
 

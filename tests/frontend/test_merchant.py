@@ -425,6 +425,72 @@ def test_merchant_editor_mirrors_a_catalogue_garment_as_the_backend_does(shop, p
     assert console.errors == []
 
 
+def test_merchant_editor_shows_what_a_real_exports_import_repaired(shop, page_factory,
+                                                                    tmp_path):
+    """A CLO export with every class of issue 46 (cm under 'Units: METRIC', the sample size's
+    'Quantity: 0', a pocket of sizes M and L, repeated points, small loops) imported in the
+    editor: every repair and assumption listed above the pattern and on its piece (also once
+    uploaded with its markup and opened again); the pocket not drawn in size S."""
+    import json
+
+    from garment.dxf_fixtures import real_export_markup, write_real_export
+
+    site, key = shop
+    dxf = write_real_export(tmp_path / "real-export.dxf")
+    page, console = page_factory()
+    page.goto(site + "/merchant")
+    page.get_by_label("API key").fill(key)
+    page.get_by_role("button", name="Log in").click()
+    page.get_by_role("heading", name="Your garments").wait_for()
+    page.get_by_label("DXF file").set_input_files(str(dxf))
+    page.get_by_role("button", name="Import").click()
+    page.wait_for_selector(".merchant-editor .pv-piece[data-panel='POCKET']")
+    told = page.locator(".mp-import__warnings li").all_inner_texts()
+    assert len(told) == 12 and sum("crossed itself in a small loop" in t for t in told) == 6
+    assert any("read in centimetres instead" in t for t in told)
+    g = editor_garment(page)
+    assert g["sizes"] == ["S", "M", "L"] and sorted(g["panels"][2]["shapes"]) == ["L", "M"]
+    # the pieces that were repaired are marked; the pocket says what was assumed, and its sizes
+    assert page.locator(".mp-piece.has-warning").count() == 3
+    page.locator(".mp-piece[data-key='piece-POCKET']").click()
+    on_piece = page.locator("[data-key='p-import-warnings'] li").all_inner_texts()
+    assert on_piece == [
+        "size M: 'Quantity: 0' read as 1, as in size L (no 'Quantity:' text there): an "
+        "export's mark on its sample size, not 'do not cut'",
+        "in sizes M, L only (not in size S): imported in those sizes"]
+    assert page.locator("[data-key='p-sizes']").inner_text() == \
+        "Cut in sizes M, L only (not in S)."
+    page.locator(".mp-piece[data-key='piece-BACK']").click()
+    on_piece = page.locator("[data-key='p-import-warnings'] li").all_inner_texts()
+    assert "size M: 2 repeated boundary point(s) dropped (the same point twice in a row, " \
+           "within 0.05 mm: an edge of no length)" in on_piece
+    shoot(page, "import-warnings", tmp_path, at=page.locator("#mp-piece-title"))
+    page.get_by_label("Pieces of size").select_option("S")
+    expect(page.locator(".pv-piece[data-panel='POCKET']")).to_have_count(0)
+    assert "not in S" in page.locator(".mp-piece[data-key='piece-POCKET']").inner_text()
+    page.get_by_label("Pieces of size").select_option("M")
+
+    # uploaded with its markup over the API (201, its warnings), opened again: still on the pieces
+    auth = {"Authorization": f"Bearer {key}"}
+    res = httpx.post(f"{site}/api/merchant/garments", headers=auth, timeout=120, files=[
+        ("dxf", (dxf.name, dxf.read_bytes(), "application/dxf")),
+        ("markup", ("markup.json", json.dumps(real_export_markup()).encode(),
+                    "application/json"))])
+    assert res.status_code == 201, res.text
+    assert {w["code"] for w in res.json()["warnings"]} >= {"units", "loop-removed", "sizes"}
+    page.once("dialog", lambda d: d.accept())   # leave the unsaved import
+    page.get_by_role("link", name="‹ All garments").click()
+    page.get_by_role("button", name="Open Real export skirt").click()
+    page.wait_for_selector(".merchant-editor .pv-piece[data-panel='pocket']")
+    page.locator(".mp-piece[data-key='piece-back_right']").click()   # a copy: its source's
+    assert page.locator("[data-key='p-import-warnings'] .notice__title").inner_text() == \
+        "The import of back_left says"
+    assert len(page.locator("[data-key='p-import-warnings'] li").all_inner_texts()) == 5
+    page.get_by_label("Pieces of size").select_option("S")   # the pocket's seam: not in S
+    assert "not sewn in S (no pocket)" in page.locator("tr[data-seam='3']").inner_text()
+    assert console.errors == []
+
+
 def test_merchant_pages_at_a_phone_size(shop, page_factory):
     """The login, the list and the editor (the pencil skirt uploaded by the test before, or
     any garment) fit a 390 px wide phone: nothing wider than the screen."""

@@ -13,7 +13,9 @@
 - :func:`glb`: the GLB's JSON chunk changed as a JSON document (including claims such as a
   4 GB buffer or a billion-element accessor), the chunk lengths recomputed or left lying, or
   the bytes damaged;
-- :func:`ply`, :func:`stl`, :func:`dxf`: headers that claim huge or negative counts.
+- :func:`ply`, :func:`stl`, :func:`dxf`: headers that claim huge or negative counts; for
+  :func:`dxf` also the slips real exports have in a boundary (a vertex written twice, two
+  swapped, one moved a little: what the import repairs or refuses).
 """
 
 from __future__ import annotations
@@ -399,10 +401,56 @@ def stl(draw, seeds: list[bytes]):
     return Case(data, f"seed {i}: " + "; ".join(ops))
 
 
+def _vertex_spans(lines: list[bytes]) -> list[tuple[int, int]]:
+    """[start, end) line ranges of the R12 POLYLINEs' VERTEX entities (group 0 to group 0)."""
+    starts = [k for k in range(1, len(lines)) if lines[k].strip() == b"VERTEX"
+              and lines[k - 1].strip() == b"0"]
+    spans = []
+    for k in starts:
+        end = k + 1
+        while end + 1 < len(lines) and not (lines[end].strip() == b"0" and end % 2 == (k - 1) % 2):
+            end += 1
+        spans.append((k - 1, end))
+    return spans
+
+
+def _slips(draw, data: bytes, i: int):
+    """What real exports slip into a boundary (issue 46): a vertex written twice (exactly, or a
+    hair's breadth off), two vertices swapped (the outline crosses itself), a vertex moved a
+    little (a small loop, or none)."""
+    lines = data.split(b"\n")
+    spans = _vertex_spans(lines)
+    if len(spans) < 2:
+        return None
+    op = draw(st.sampled_from(["repeat", "repeat-off", "swap", "nudge"]))
+    a, b = sorted(draw(st.lists(st.integers(0, len(spans) - 1), min_size=2, max_size=2,
+                                unique=True)))
+    (a0, a1), (b0, b1) = spans[a], spans[b]
+    if op == "swap" and b == a + 1:
+        lines[a0:b1] = lines[b0:b1] + lines[a0:a1]
+    elif op in ("repeat", "repeat-off", "nudge"):
+        copy_ = list(lines[a0:a1])
+        for k in range(len(copy_) - 1):
+            if copy_[k].strip() == b"10" and op != "repeat":
+                x = float(copy_[k + 1]) if NUMBER.fullmatch(copy_[k + 1].strip()) else 0.0
+                step = draw(st.sampled_from([1e-6, 1e-4, 0.01, 0.5, 3.0])) if op == "nudge" \
+                    else 1e-5
+                copy_[k + 1] = repr(x + step).encode()
+        lines[a0:a1] = copy_ if op == "nudge" else lines[a0:a1] + copy_
+    else:
+        return None
+    return Case(b"\n".join(lines), f"seed {i}: vertex {a} {op}" + (f" with {b}" if op == "swap"
+                                                                     else ""))
+
+
 @st.composite
 def dxf(draw, seeds: list[bytes]):
     i = draw(st.integers(0, len(seeds) - 1))
     data = seeds[i]
+    if draw(st.integers(0, 3)) == 0:
+        slipped = _slips(draw, data, i)
+        if slipped is not None:
+            return slipped
     if draw(st.integers(0, 3)) == 0:
         # claims: a polyline with a billion vertices, coordinates far away, units nobody uses
         lines = data.split(b"\n")

@@ -5,10 +5,13 @@
   also the OBJ in centimetres;
 - body: the same body as catwalk writes it (``catwalk.exchange.gltf.glb_bytes``);
 - DXF: the AAMA/ASTM skirt as Gerber and CLO write it and the plain DXF of
-  ``tests/garment/dxf_fixtures.py``, and a catalogue garment exported by ``write_dxf``;
+  ``tests/garment/dxf_fixtures.py``, a catalogue garment exported by ``write_dxf``, and the
+  skirt with what real exports carry (issue 46: cm under 'Units: METRIC', the sample size's
+  'Quantity: 0', a piece of some sizes, repeated points, small self-crossing loops; as CLO and
+  as Gerber write it) — so the mutations reach the repairs;
 - garments: the catalogue (``garments/*.json``);
-- markup: the FreeSewing markups (``garments/freesewing/markup``) with their drafts, and the
-  skirt markup of ``tests/garment/test_dxf.py`` with its DXF;
+- markup: the FreeSewing markups (``garments/freesewing/markup``) with their drafts, the
+  skirt markup of ``tests/garment/test_dxf.py`` with its DXF, and the real export's with its;
 - GarmentCode: the two specifications in ``garments/garmentcode``;
 - try-on files: a try-on .glb of a walking box body in a textured two-panel skirt
   (``tests/exchange/tryon_samples.py``).
@@ -80,7 +83,9 @@ def dxfs() -> list[bytes]:
     for name, make in (("gerber.dxf", lambda p: fx.write_pattern(p, style="gerber")),
                        ("clo.dxf", lambda p: fx.write_pattern(p, style="clo", units="METRIC",
                                                               sizes=("M",))),
-                       ("plain.dxf", fx.write_plain)):
+                       ("plain.dxf", fx.write_plain),
+                       ("real-clo.dxf", fx.write_real_export),
+                       ("real-gerber.dxf", lambda p: fx.write_real_export(p, style="gerber"))):
         make(WORK / name)
         out.append((WORK / name).read_bytes())
     write_dxf(load_garment(GARMENTS / "pencil-skirt.json"), WORK / "export.dxf", style="gerber")
@@ -104,8 +109,10 @@ def markups() -> list[tuple[bytes, str]]:
         if draft.is_file():
             out.append((m.read_bytes(), str(draft)))
     dxfs()
-    markup = _module(TESTS / "garment" / "dxf_fixtures.py").SKIRT_MARKUP
-    out.append((json.dumps(markup).encode(), str(WORK / "gerber.dxf")))
+    fx = _module(TESTS / "garment" / "dxf_fixtures.py")
+    out.append((json.dumps(fx.SKIRT_MARKUP).encode(), str(WORK / "gerber.dxf")))
+    # a pocket of some sizes, the repaired outlines' numbering
+    out.append((json.dumps(fx.real_export_markup()).encode(), str(WORK / "real-clo.dxf")))
     return out
 
 

@@ -352,3 +352,36 @@ def test_a_texture_too_large_is_refused(tmp_path):
     errors = check_garment(g, tmp_path).errors
     assert errors == ["panel 'front': texture image 'huge.png' is 4097 × 4096 pixels; at most "
                       "16,777,216 (4096 × 4096)"]
+
+
+def test_a_panel_of_some_sizes_only(tmp_path):
+    """A pocket in size L only: read and written as it is, cut in L alone, its seam sewn in
+    L; unsewn, it is named for the sizes that have it; a panel in no size, or a size without
+    panels, is refused."""
+    g = tube(sizes=("M", "L"))
+    g.panels.append(Panel("pocket", "pocket", {"L": Shape(rect(0.15, 0.2))},
+                          placement=Placement(side="front", anchor="bust")))
+    d = garment_to_dict(g)
+    assert list(d["panels"][2]["shapes"]) == ["L"]
+    g2 = garment_from_dict(d)
+    assert g2.panel_sizes("pocket") == ["L"] and not g2.cut_in("pocket", "M")
+    assert [p.name for p in cut_pieces(g2, "M")[0]] == ["front", "back"]
+    rep = check_garment(g2)
+    assert rep.errors == ["panel(s) 'pocket' not reachable from panel 'front' through seams "
+                          "(size L) (every panel must be sewn to the rest)"]
+    g2.seams.append(Seam(SeamSide("pocket", 0, 1), SeamSide("front", 0, 1), ease=0.8))
+    rep = check_garment(g2)
+    assert rep.ok, rep.errors
+    assert [(r["seam"], r["size"]) for r in rep.seams] == [(0, "M"), (1, "M"), (0, "L"),
+                                                            (1, "L"), (2, "L")]
+    pieces, seams = cut_pieces(g2, "L")
+    assert [p.name for p in pieces] == ["front", "back", "pocket"] and len(seams) == 3
+    assert len(cut_pieces(g2, "M")[1]) == 2
+    bad = garment_to_dict(g2)
+    bad["panels"][2]["shapes"] = {}
+    with pytest.raises(InputError, match="panel 'pocket': no outline in any size"):
+        garment_from_dict(bad)
+    bad = garment_to_dict(g2)
+    bad["sizes"].append("XL")
+    with pytest.raises(InputError, match="size XL: no panel has an outline in this size"):
+        garment_from_dict(bad)

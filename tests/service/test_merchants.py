@@ -241,6 +241,62 @@ def test_a_dxf_of_255_blocks_in_15_sizes_imports_and_uploads(shop, tmp_path):
         assert all(f"'P{k}'" in problems[0]["message"] for k in range(15))
 
 
+def test_a_real_exports_repairs_and_assumptions_come_back_as_warnings(shop, tmp_path):
+    """A CLO-style export with every class of issue 46 (cm under 'Units: METRIC', the sample
+    size's 'Quantity: 0', a pocket of sizes M and L, repeated points, small loops): the
+    editor's import and the upload (201) list each repair and assumption as an object, with the
+    panel it concerns as the markup names it; the stored garment keeps them on its panels. A
+    large self-crossing is refused naming the piece, the size and the place."""
+    from catwalk.service import merchants
+    from catwalk.service.api.app import create_app
+
+    env, config = shop
+    fx = dxf_fixtures()
+    path = fx.write_real_export(tmp_path / "real.dxf")
+    dxf = ("dxf", (path.name, path.read_bytes(), "application/dxf"))
+    markup = ("markup", ("markup.json", json.dumps(fx.real_export_markup()).encode(),
+                         "application/json"))
+    with TestClient(create_app(config, recovery=False)) as client:
+        key = merchants.create(config, "real-exports")
+        r = client.post("/api/merchant/import", headers=bearer(key), files=[dxf])
+        assert r.status_code == 200, r.text
+        out = r.json()
+        codes = [w["code"] for w in out["warnings"]]
+        assert codes.count("loop-removed") == 6 and codes.count("sample-quantity") == 3
+        assert {"units", "duplicate-points", "sizes"} <= set(codes)
+        units = next(w for w in out["warnings"] if w["code"] == "units")
+        assert units["units"] == "cm" and "read in centimetres" in units["message"]
+        pocket = next(p for p in out["garment"]["panels"] if p["name"] == "POCKET")
+        assert sorted(pocket["shapes"]) == ["L", "M"]
+        assert [w["code"] for w in pocket["meta"]["import_warnings"]] == ["sample-quantity",
+                                                                         "sizes"]
+        r = client.post("/api/merchant/garments", headers=bearer(key), files=[dxf, markup])
+        assert r.status_code == 201, r.text
+        made = r.json()
+        assert made["sizes"] == ["S", "M", "L"]
+        by_code = {}
+        for w in made["warnings"]:
+            by_code.setdefault(w["code"], []).append(w)
+        assert {w["panel"] for w in by_code["loop-removed"]} == {"front", "back_left"}
+        assert by_code["sizes"][0]["panel"] == "pocket" and by_code["sizes"][0]["piece"] == \
+            "POCKET"
+        assert by_code["duplicate-points"][0]["size"] == "M"
+        assert all(w["message"].startswith("dxf: ") for w in by_code["loop-removed"])
+        item = client.get(f"/api/merchant/garments/{made['id']}", headers=bearer(key)).json()
+        assert item["versions"][0]["warnings"] == made["warnings"]
+        front = next(p for p in item["garment"]["panels"] if p["name"] == "front")
+        assert [w["code"] for w in front["meta"]["import_warnings"]] == [
+            "loop-removed", "sample-quantity", "loop-removed", "loop-removed"]
+        # a large crossing: refused with where it is
+        bad = fx.write_pattern(tmp_path / "x.dxf", outline=fx.figure_eight())
+        r = client.post("/api/merchant/garments", headers=bearer(key), files=[
+            ("dxf", (bad.name, bad.read_bytes(), "application/dxf")), markup])
+        assert r.status_code == 422
+        problem = r.json()["error"]["problems"][0]
+        assert problem["size"] == "L" and "piece 'BACK' (size L): the outline crosses itself " \
+            "near (27.9, 30.5) cm from the piece's lower-left corner" in problem["message"]
+
+
 def test_dxf_and_markup_dress_publish_tryon_and_versions(shop, procs, tmp_path):
     """Gerber- and CLO-style DXFs with their markup → dressed per size → published → a
     try-on; a new version leaves the old try-on's result in place."""

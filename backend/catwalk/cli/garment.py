@@ -87,14 +87,15 @@ def _import(args) -> int:
     markup = load_markup(args.markup) if args.markup else None
     pieces, warnings = read_dxf(args.file, size=args.size, units=args.units)
     for w in warnings:
-        print(f"warning: {w}", file=sys.stderr)
+        print(f"warning: {w['message']}", file=sys.stderr)
     source = {"dxf": Path(args.file).name, "importer": "catwalk garment import"}
     g = pieces_to_garment(pieces, Path(args.file).stem, source=source)
     if markup is not None:
         apply_markup(g, markup, str(args.markup))
     _write(g, args.output, strict=markup is not None)
     if args.json:
-        print(json.dumps([p.summary() for p in pieces], indent=1))
+        print(json.dumps({"pieces": [p.summary() for p in pieces], "warnings": warnings},
+                         indent=1))
     else:
         for p in pieces:
             s = p.summary()
@@ -249,9 +250,10 @@ def register(top, groups) -> None:
                    help="units of the file when it does not say (overrides Units:/$INSUNITS)")
     p.add_argument("--markup", help="markup JSON: panel types, seams, fabric, placement")
     p.add_argument("--json", action="store_true",
-                   help="print the pieces as JSON: name, size, quantity, flipped (ASTM's "
-                        "mirrored copies), area_m2, perimeter_m, notches, mirrored (a mirror "
-                        "line)")
+                   help="print {\"pieces\", \"warnings\"} as JSON: each piece's name, size, "
+                        "quantity, flipped (ASTM's mirrored copies), area_m2, perimeter_m, "
+                        "notches, mirrored (a mirror line); each repair or assumption made as "
+                        "{code, message, piece?, size?, …}")
     p.add_argument("-o", "--output", required=True, help="garment JSON to write")
     p.set_defaults(func=_import)
 

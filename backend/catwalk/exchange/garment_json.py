@@ -294,9 +294,8 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
             fold = _int(fold, f"{w}: fold (the number of the straight edge cut on the fold)")
         copy = rp.get("copy_of")
         if copy is None:
-            missing = [s for s in sizes if s not in shapes]
-            if missing:
-                raise InputError(f"{w}: no outline for size(s) {', '.join(missing)}")
+            if not shapes:   # a panel of some sizes only has outlines in those
+                raise InputError(f"{w}: no outline in any size (sizes: {', '.join(sizes)})")
         else:
             copy = _str(copy, f"{w}: copy_of")
             if shapes:
@@ -317,6 +316,9 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
                             _bool(rp.get("mirror", False), f"{w}: mirror"), fabric, texture,
                             _placement(rp.get("placement"), f"{w}"),
                             dict(_plain(_obj(rp.get("meta", {}), f"{w}: meta"), f"{w}: meta"))))
+    for s in sizes:
+        if not any(s in p.shapes for p in panels):
+            raise InputError(f"{src}: size {s}: no panel has an outline in this size")
     names = {p.name for p in panels}
     for p in panels:
         if p.copy_of is not None:

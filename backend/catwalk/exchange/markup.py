@@ -24,7 +24,7 @@ piece in the same size) forward from vertex v — later vertices shift up by one
 panels by their new or their original name; ``start`` / ``end`` are outline vertex numbers, or
 ``{"point": [x, y]}`` (metres in the imported panel's coordinates: the nearest vertex, within
 5 mm) or ``{"notch": k}`` (the vertex nearest the k-th notch). Points and notches are resolved
-in the first size; graded pieces keep their vertex numbers across sizes.
+in the first size the piece is cut in; graded pieces keep their vertex numbers across sizes.
 """
 
 from __future__ import annotations
@@ -191,8 +191,8 @@ def _side(g: Garment, raw, renames: dict[str, str], where: str) -> SeamSide:
         raise InputError(f"{where}: unknown panel {raw['panel']!r} (panels: "
                          f"{', '.join(names)})")
     panel = g.panel(name)
-    shape = g.shape(panel.copy_of or panel.name, g.sizes[0]) if panel.copy_of else \
-        panel.shapes[g.sizes[0]]
+    first = g.panel_sizes(panel)[0]   # the first size the panel is cut in
+    shape = g.shape(panel.copy_of or panel.name, first) if panel.copy_of else panel.shapes[first]
     verts = np.array([s.start for s in shape.outline])
     out = []
     for key in ("start", "end"):
@@ -235,7 +235,7 @@ def _split(g: Garment, p: Panel, sp, where: str) -> None:
     if not isinstance(sp, dict) or "from" not in sp or "length" not in sp:
         raise InputError(f"{where}: a split is {{\"from\": vertex, \"length\": metres or run}}")
     new: set[int] = set()
-    for size in g.sizes:
+    for size in g.panel_sizes(p):
         shape = p.shapes[size]
         length = sp["length"]
         if isinstance(length, dict):

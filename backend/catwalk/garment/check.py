@@ -3,17 +3,18 @@
 :func:`check_garment` returns a :class:`Report` (errors, warnings, per-panel numbers);
 :func:`require_valid` raises :class:`catwalk.errors.InputError` listing every error.
 
-Checked: the garment's type, sizes and panels (a garment built in code skips the reader);
-for every size: garment-sized (no panel more than :data:`MAX_PANEL_EXTENT` across, the
+Checked: the garment's type, sizes and panels (a garment built in code skips the reader;
+a panel may be cut in some sizes only, each size has at least one); for every size, over the
+panels it has: garment-sized (no panel more than :data:`MAX_PANEL_EXTENT` across, the
 largest at least :data:`MIN_GARMENT_EXTENT`, at most :data:`MAX_GARMENT_AREA` of fabric),
 outlines no more detailed than :data:`MAX_OUTLINE_POINTS` points, closed (a stated segment
 ``end`` meets the next segment's start), no zero-length edges, not self-intersecting
 (flattened within 0.1 mm), positive area;
 fold edges straight; seam sides inside the outline, runs of one cut piece not overlapping, seam
 partners within 2 % of each other's length (or within the seam's declared ``ease``, for
-gathers and eased seams); every panel reachable from every other through
-seams; fabric presets known (or custom fabrics complete); texture images present, readable and
-at most :data:`MAX_TEXTURE_PIXELS`.
+gathers and eased seams; a seam on a panel a size lacks is not sewn in that size); every panel
+of a size reachable from every other through seams; fabric presets known (or custom fabrics
+complete); texture images present, readable and at most :data:`MAX_TEXTURE_PIXELS`.
 """
 
 from __future__ import annotations
@@ -241,7 +242,7 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
     unsound: set[str] = set()   # panels with an outline error: their seams are not checked
     for size in g.sizes:
         for p in g.panels:
-            if p.copy_of is not None:
+            if p.copy_of is not None or size not in p.shapes:
                 continue
             before = len(err)
             where = f"panel {p.name!r} (size {size})"
@@ -262,10 +263,11 @@ def check_garment(g: Garment, base_dir: str | Path | None = None) -> Report:
                     err.extend(e for e in errs if "intersects" in e)
             sewn = {g.source_vertex_map(g.panel(sd.panel))[0]
                     for sm in g.seams for sd in (sm.a, sm.b)}
-            if p.name in sewn and any(len(p.shapes[s].outline) != n for s in g.sizes):
+            if p.name in sewn and any(len(sh.outline) != n for sh in p.shapes.values()):
+                counts = ", ".join(f"{s}: {len(p.shapes[s].outline)}" for s in g.sizes
+                                   if s in p.shapes)
                 err.append(f"panel {p.name!r}: sizes have different numbers of edges "
-                           f"({', '.join(f'{s}: {len(p.shapes[s].outline)}' for s in g.sizes)})"
-                           f"; seams need the same vertices in every size")
+                           f"({counts}); seams need the same vertices in every size")
             if len(err) > before:
                 unsound.add(p.name)
         for p in g.panels:
@@ -308,11 +310,15 @@ def _check_garment_fields(g: Garment, err: list[str]) -> bool:
         err.append(f"panel names {names!r}: each panel needs its own non-empty name")
     for p in g.panels:
         if p.copy_of is None:
-            missing = [s for s in g.sizes if s not in p.shapes]
-            if missing:
-                err.append(f"panel {p.name!r}: no outline for size(s) {', '.join(missing)}")
+            if not any(s in p.shapes for s in g.sizes):
+                err.append(f"panel {p.name!r}: no outline in any size (sizes: "
+                           f"{', '.join(map(str, g.sizes))})")
         elif p.copy_of not in names:
             err.append(f"panel {p.name!r}: copy_of names no panel ({p.copy_of!r})")
+    if len(err) == n:
+        for s in g.sizes:
+            if not any(p.copy_of is None and s in p.shapes for p in g.panels):
+                err.append(f"size {s}: no panel has an outline in this size")
     for i, s in enumerate(g.seams):
         for side in (s.a, s.b):
             if side.panel not in names:
@@ -328,7 +334,7 @@ def _check_sizes(g: Garment, err: list[str]) -> bool:
     for size in g.sizes:
         largest = 0.0
         for p in g.panels:
-            if p.copy_of is not None:
+            if p.copy_of is not None or size not in p.shapes:
                 continue
             shape = p.shapes[size]
             where = f"panel {p.name!r} (size {size})"
@@ -356,6 +362,8 @@ def _check_seams(g: Garment, rep: Report, unsound: set[str] = frozenset()) -> No
         for i, s in enumerate(g.seams):
             if {g.source_vertex_map(g.panel(sd.panel))[0] for sd in (s.a, s.b)} & unsound:
                 continue
+            if not (g.cut_in(s.a.panel, size) and g.cut_in(s.b.panel, size)):
+                continue   # a seam on a panel of other sizes only: not sewn in this one
             lab = s.label(i)
             lens = []
             bad = False
@@ -416,24 +424,38 @@ def _check_seams(g: Garment, rep: Report, unsound: set[str] = frozenset()) -> No
 
 
 def _check_reachable(g: Garment, rep: Report) -> None:
-    names = [p.name for p in g.panels]
+    """Every panel of each size sewn to the rest of that size (sizes with the same panels are
+    told once; a garment whose panels are in every size names no size)."""
+    groups: dict[tuple[str, ...], list[str]] = {}
+    for size in g.sizes:
+        names = tuple(p.name for p in g.panels if g.cut_in(p, size))
+        groups.setdefault(names, []).append(size)
+    for names, sizes in groups.items():
+        lost = _unreachable(g, names)
+        if lost:
+            which = "" if len(groups) == 1 else \
+                f" (size{'s' if len(sizes) > 1 else ''} {', '.join(sizes)})"
+            rep.errors.append(f"panel(s) {', '.join(repr(n) for n in lost)} not reachable from "
+                              f"panel {names[0]!r} through seams{which} (every panel must be "
+                              "sewn to the rest)")
+
+
+def _unreachable(g: Garment, names: tuple[str, ...]) -> list[str]:
+    """The panels of ``names`` no seam path joins to the first."""
     if len(names) < 2:
-        return
-    adj = {n: set() for n in names}
+        return []
+    adj: dict[str, set[str]] = {n: set() for n in names}
     for s in g.seams:
-        adj[s.a.panel].add(s.b.panel)
-        adj[s.b.panel].add(s.a.panel)
+        if s.a.panel in adj and s.b.panel in adj:
+            adj[s.a.panel].add(s.b.panel)
+            adj[s.b.panel].add(s.a.panel)
     seen, todo = {names[0]}, [names[0]]
     while todo:
         for m in adj[todo.pop()]:
             if m not in seen:
                 seen.add(m)
                 todo.append(m)
-    lost = [n for n in names if n not in seen]
-    if lost:
-        rep.errors.append(f"panel(s) {', '.join(repr(n) for n in lost)} not reachable from "
-                          f"panel {names[0]!r} through seams (every panel must be sewn to the "
-                          f"rest)")
+    return [n for n in names if n not in seen]
 
 
 def require_valid(g: Garment, base_dir: str | Path | None = None) -> Report:

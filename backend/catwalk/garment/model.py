@@ -1,8 +1,10 @@
 """The garment model (``docs/garment-format.md``).
 
 A :class:`Garment` is what a merchant uploads: a garment type, its sizes, panels (each with a
-closed outline per size, grain line, cut-on-fold or mirrored copy, texture, fabric, placement
-hint) and seams between outline runs. Its JSON format is read and written by
+closed outline per size — a panel of some sizes only, such as a label or a pocket of the larger
+sizes, has outlines in those and is not cut in the others —, grain line, cut-on-fold or
+mirrored copy, texture, fabric, placement hint) and seams between outline runs. Its JSON
+format is read and written by
 :mod:`catwalk.exchange.garment_json`; :mod:`catwalk.garment.check` validates the geometry and
 the seams.
 """
@@ -164,6 +166,24 @@ class Garment:
                              f"(sizes: {', '.join(self.sizes)})")
         return size
 
+    def source_panel(self, panel: str | Panel) -> Panel:
+        """The panel whose outlines ``panel`` uses (itself, or the source of a copy)."""
+        p = self.panel(panel) if isinstance(panel, str) else panel
+        seen = set()
+        while p.copy_of is not None and p.name not in seen:
+            seen.add(p.name)
+            p = self.panel(p.copy_of)
+        return p
+
+    def cut_in(self, panel: str | Panel, size: str) -> bool:
+        """Whether the panel is cut in ``size``: it has an outline there (a copy: its source)."""
+        return size in self.source_panel(panel).shapes
+
+    def panel_sizes(self, panel: str | Panel) -> list[str]:
+        """The sizes the panel is cut in, in grading order."""
+        shapes = self.source_panel(panel).shapes
+        return [s for s in self.sizes if s in shapes]
+
     def shape(self, panel: str | Panel, size: str) -> Shape:
         """The panel's shape as stored (a copy's shape comes from its source, mirrored)."""
         p = self.panel(panel) if isinstance(panel, str) else panel
@@ -225,9 +245,10 @@ def unfold(shape: Shape, k: int) -> tuple[Shape, np.ndarray]:
 
 def cut_pieces(garment: Garment, size: str | None = None, tolerance: float = 2e-3,
                align_grain: bool = True) -> tuple[list[Piece], list[tuple]]:
-    """Pieces as cut in ``size`` and seams as ``(piece_a, start_a, end_a, piece_b, start_b,
-    end_b, reverse)`` in *flattened* point indices, ready for
-    :class:`catwalk.cloth.builder.Seam` (runs go forward from start to end).
+    """Pieces as cut in ``size`` (the panels it has; seams on another size's panels left out)
+    and seams as ``(piece_a, start_a, end_a, piece_b, start_b, end_b, reverse)`` in *flattened*
+    point indices, ready for :class:`catwalk.cloth.builder.Seam` (runs go forward from start
+    to end).
 
     With ``align_grain`` a piece whose grain line is not along ±y (the builder's warp) is
     turned about the grain line's start by the smallest angle that makes it so (a grain line
@@ -235,6 +256,8 @@ def cut_pieces(garment: Garment, size: str | None = None, tolerance: float = 2e-
     size = garment.size(size)
     pieces, index = [], {}
     for p in garment.panels:
+        if not garment.cut_in(p, size):
+            continue   # a panel of other sizes only
         shape = garment.shape(p, size)
         fold_map = None
         if p.fold is not None:
@@ -256,6 +279,8 @@ def cut_pieces(garment: Garment, size: str | None = None, tolerance: float = 2e-
         pieces.append(Piece(p.name, p, shape, shape.flat(tolerance), fold_map, turn))
     seams = []
     for s in garment.seams:
+        if s.a.panel not in index or s.b.panel not in index:
+            continue   # a seam on a panel this size does not have
         ends = []
         for side in (s.a, s.b):
             piece = pieces[index[side.panel]]

@@ -81,11 +81,30 @@ class Prepared:
     folder: Path            # the checked files, in a hidden folder of the storage
     garment: object         # catwalk.garment.model.Garment
     content: str            # catalogue.garment_version of the files
-    warnings: list[str]
+    warnings: list[dict]    # {"code", "message", "panel"?, "piece"?, "size"?, …}
 
 
 def _problems(messages: list[str]) -> list[dict]:
     return [problem(m) for m in messages]
+
+
+def warning_objects(warnings: list) -> list[dict]:
+    """Warnings as objects (versions stored before they were: their text as the message)."""
+    return [w if isinstance(w, dict) else {"message": str(w)} for w in warnings]
+
+
+def panel_names(warnings: list[dict], g, markup: dict | None = None) -> list[dict]:
+    """The import's warnings with the panel each concerns, as named after the markup's
+    renames (``panel``, beside the DXF's ``piece``)."""
+    raw = markup.get("panels") if isinstance(markup, dict) else None
+    renames = {k: v["name"] for k, v in (raw or {}).items()
+               if isinstance(v, dict) and isinstance(v.get("name"), str)}
+    names = {p.name for p in g.panels}
+    out = []
+    for w in warnings:
+        panel = renames.get(w.get("piece"), w.get("piece"))
+        out.append(w | {"panel": panel} if panel in names else w)
+    return out
 
 
 def _check_file_name(name: str) -> str:
@@ -112,7 +131,7 @@ def _read_garment(upload: Upload, folder: Path, messages: list[str]):
                           source={"importer": "catwalk merchant upload"})
     apply_markup(g, markup, "markup")
     g.path = folder / "garment.json"
-    return g, warnings
+    return g, panel_names(warnings, g, markup)
 
 
 def prepare(storage: Storage, upload: Upload, previous: Path | None = None) -> Prepared:
@@ -136,7 +155,7 @@ def prepare(storage: Storage, upload: Upload, previous: Path | None = None) -> P
             target.parent.mkdir(parents=True, exist_ok=True)
             target.write_bytes(data)
         messages: list[str] = []
-        warnings: list[str] = []
+        warnings: list[dict] = []
         try:
             got = _read_garment(upload, folder, messages)
         except InputError as exc:
@@ -149,13 +168,15 @@ def prepare(storage: Storage, upload: Upload, previous: Path | None = None) -> P
                 (folder / name).parent.mkdir(parents=True, exist_ok=True)
                 shutil.copyfile(old, folder / name)
         for name in sorted(set(upload.files) - named):
-            warnings.append(f"file {name!r} is not named by any panel's texture: not kept")
+            warnings.append({"code": "file-not-kept", "file": name,
+                             "message": f"file {name!r} is not named by any panel's texture: "
+                                        "not kept"})
             (folder / name).unlink()
         report = check_garment(g, folder)
         messages.extend(report.errors)
         if messages:   # the storage's own paths are not the merchant's business
             raise UploadRejected(_problems([m.replace(f"{folder}/", "") for m in messages]))
-        warnings.extend(report.warnings)
+        warnings.extend({"code": "check"} | problem(w) for w in report.warnings)
         (folder / "garment.json").write_bytes(garment_bytes(g))
         return Prepared(folder, g, garment_version(folder / "garment.json", g), warnings)
     except BaseException:
@@ -179,7 +200,7 @@ def _version_view(v: GarmentVersionRow, garment_id: str) -> dict:
         dressing[size] = rep
     return {"version": v.version, "content": v.content,
             "created_at": v.created_at.isoformat() + "Z", "sizes": list(v.sizes),
-            "warnings": list(v.warnings), "check_status": v.check_status,
+            "warnings": warning_objects(v.warnings), "check_status": v.check_status,
             "dressing": dressing}
 
 

@@ -74,7 +74,26 @@ export function vertexCount( g, panel ) {
 
 	const p = typeof panel === 'string' ? findPanel( g, panel ) : panel;
 	const base = findPanel( g, sourceVertexMap( g, p )[ 0 ] );
-	return base.shapes[ g.sizes[ 0 ] ].outline.length;
+	return base.shapes[ panelSizes( g, base )[ 0 ] ].outline.length;
+
+}
+
+/** The sizes the panel is cut in, in grading order (a panel of some sizes only, such as a pocket of the larger ones, has outlines in those; a copy follows its source). */
+export function panelSizes( g, panel ) {
+
+	const p = typeof panel === 'string' ? findPanel( g, panel ) : panel;
+	const base = findPanel( g, sourceVertexMap( g, p )[ 0 ] );
+	return g.sizes.filter( ( s ) => base.shapes && base.shapes[ s ] );
+
+}
+
+/** What importing the panel's piece repaired or assumed (`meta.import_warnings`: { code, message, size? }; a copy: its source's). */
+export function importWarnings( g, panel ) {
+
+	const p = typeof panel === 'string' ? findPanel( g, panel ) : panel;
+	const base = findPanel( g, sourceVertexMap( g, p )[ 0 ] );
+	const list = base.meta && base.meta.import_warnings;
+	return Array.isArray( list ) ? list.filter( ( w ) => w && typeof w.message === 'string' ) : [];
 
 }
 
@@ -254,10 +273,10 @@ export function setGrainAngle( panel, degrees ) {
 
 }
 
-/** The straight edges of a panel (fold candidates) in `size`. */
+/** The straight edges of a panel (fold candidates) in `size` (or in its first size, when it is not cut in that one). */
 export function straightEdges( panel, size ) {
 
-	const outline = panel.shapes[ size ].outline;
+	const outline = ( panel.shapes[ size ] || Object.values( panel.shapes )[ 0 ] ).outline;
 	return outline.map( ( _, k ) => k ).filter( ( k ) => isStraightEdge( outline, k ) );
 
 }
@@ -303,11 +322,13 @@ export function renameSize( g, from, to ) {
 
 }
 
-/** Remove a size (not the last one). */
+/** Remove a size (not the last one, nor the only size of a piece). */
 export function removeSize( g, size ) {
 
 	if ( g.sizes.length <= 1 ) throw new Error( 'a garment needs at least one size' );
 	if ( ! g.sizes.includes( size ) ) throw new Error( `no size ${ JSON.stringify( size ) }` );
+	const only = g.panels.filter( ( p ) => p.copy_of == null && p.shapes && p.shapes[ size ] && panelSizes( g, p ).length === 1 );
+	if ( only.length ) throw new Error( `size ${ size } is the only size of ${ only.map( ( p ) => p.name ).join( ', ' ) }: remove ${ only.length === 1 ? 'that piece' : 'those pieces' } first` );
 	g.sizes = g.sizes.filter( ( s ) => s !== size );
 	for ( const p of g.panels ) if ( p.shapes ) delete p.shapes[ size ];
 	if ( g.default_size === size ) g.default_size = g.sizes[ Math.floor( g.sizes.length / 2 ) ];

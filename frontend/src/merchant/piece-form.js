@@ -5,7 +5,7 @@ import { h, clear } from '../ui/dom.js';
 import { notice } from '../ui/feedback.js';
 import { typeName } from '../format.js';
 import { field, select, numberInput, num, keepFocus } from './form.js';
-import { PANEL_TYPES, findPanel, editPanel, renamePanel, removePanel, grainAngle, setGrainAngle, straightEdges, setFold } from './garment-edit.js';
+import { PANEL_TYPES, findPanel, editPanel, renamePanel, removePanel, grainAngle, setGrainAngle, straightEdges, setFold, panelSizes, importWarnings } from './garment-edit.js';
 import { segmentLengths } from './geometry.js';
 import { placementFields } from './piece-placement.js';
 import { textureFields } from './piece-texture.js';
@@ -62,10 +62,15 @@ function pieceList( state ) {
 	for ( const p of state.g.panels ) {
 
 		const bad = ! state.problemsStale && state.problems.some( ( x ) => x.panel === p.name );
+		const told = safeList( () => importWarnings( state.g, p ) ).length;
+		const absent = ! safeList( () => panelSizes( state.g, p ) ).includes( state.size );
+		const classes = [ 'mp-piece', bad ? 'has-problem' : '', told ? 'has-warning' : '', absent ? 'is-absent' : '' ].filter( Boolean ).join( ' ' );
 		list.append( h( 'li', {}, h( 'button', {
-			type: 'button', class: `mp-piece${ bad ? ' has-problem' : '' }`, 'aria-pressed': String( state.selected === p.name ), 'data-key': `piece-${ p.name }`,
+			type: 'button', class: classes, 'aria-pressed': String( state.selected === p.name ), 'data-key': `piece-${ p.name }`,
+			title: [ told ? `The import repaired or assumed ${ told === 1 ? 'one thing' : `${ told } things` } on this piece` : '', absent ? `Not in size ${ state.size }` : '' ].filter( Boolean ).join( '; ' ) || null,
 			onclick: () => state.set( { selected: state.selected === p.name ? null : p.name } ),
-		}, p.name, h( 'span', { class: 'muted small' }, ` ${ typeName( p.type || 'other' ) }${ p.copy_of != null ? `, copy of ${ p.copy_of }` : '' }` ) ) ) );
+		}, told ? h( 'span', { class: 'mp-piece__mark', 'aria-label': 'with import warnings' }, '! ' ) : null, p.name,
+		h( 'span', { class: 'muted small' }, ` ${ typeName( p.type || 'other' ) }${ p.copy_of != null ? `, copy of ${ p.copy_of }` : '' }${ absent ? `, not in ${ state.size }` : '' }` ) ) ) );
 
 	}
 
@@ -77,6 +82,7 @@ function pieceList( state ) {
 function pieceFields( state, p ) {
 
 	const form = h( 'div', { class: 'mp-piece-form' } );
+	form.append( ...importNotes( state, p ) );
 	form.append( nameAndType( state, p ) );
 	if ( p.copy_of != null ) {
 
@@ -92,6 +98,45 @@ function pieceFields( state, p ) {
 	form.append( textureFields( state, p ) );
 	form.append( h( 'div', { class: 'mp-actions' }, h( 'button', { type: 'button', class: 'button button--danger button--small', 'data-key': 'p-remove', onclick: () => remove( state, p.name ) }, 'Remove this piece' ) ) );
 	return form;
+
+}
+
+/** What the import repaired or assumed on the piece, and the sizes it is in when not all. */
+function importNotes( state, p ) {
+
+	const out = [];
+	const sizes = safeList( () => panelSizes( state.g, p ) );
+	if ( sizes.length && sizes.length < state.g.sizes.length ) {
+
+		out.push( h( 'p', { class: 'mp-piece-sizes small', 'data-key': 'p-sizes' }, `Cut in size${ sizes.length > 1 ? 's' : '' } ${ sizes.join( ', ' ) } only (not in ${ state.g.sizes.filter( ( s ) => ! sizes.includes( s ) ).join( ', ' ) }).` ) );
+
+	}
+
+	const told = safeList( () => importWarnings( state.g, p ) );
+	if ( told.length ) {
+
+		out.push( h( 'div', { class: 'notice notice--warn mp-piece-warnings', role: 'status', 'data-key': 'p-import-warnings' }, h( 'div', { class: 'notice__body' },
+			h( 'p', { class: 'notice__title' }, p.copy_of != null ? `The import of ${ p.copy_of } says` : 'The import says' ),
+			h( 'ul', {}, told.map( ( w ) => h( 'li', {}, w.message ) ) ) ) ) );
+
+	}
+
+	return out;
+
+}
+
+/** `fn()`'s list, or an empty one when it throws (a garment being edited may be half-made). */
+function safeList( fn ) {
+
+	try {
+
+		return fn();
+
+	} catch {
+
+		return [];
+
+	}
 
 }
 

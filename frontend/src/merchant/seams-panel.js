@@ -4,7 +4,7 @@
 
 import { h, clear } from '../ui/dom.js';
 import { field, select, numberInput, num, keepFocus } from './form.js';
-import { findPanel, sideAsShown, shownReverse, seamLengths, runCrossesFold, vertexCount, sourceVertexMap } from './garment-edit.js';
+import { findPanel, sideAsShown, shownReverse, seamLengths, runCrossesFold, vertexCount, sourceVertexMap, panelSizes } from './garment-edit.js';
 import { draftSides, otherWay, addSeam, pickRun } from './seam-picks.js';
 import { cm, pct } from './units.js';
 
@@ -176,6 +176,14 @@ function seamTable( state ) {
 
 }
 
+/** Why a seam has no lengths in `size`: a piece of it not in that size (it is not sewn there), or '—'. */
+function notSewn( g, s, size ) {
+
+	const absent = [ s.a.panel, s.b.panel ].filter( ( p ) => ! safe( () => panelSizes( g, p ).includes( size ) ) );
+	return absent.length ? `not sewn in ${ size } (no ${ absent.join( ', ' ) })` : '—';
+
+}
+
 /** The seam `s` (number `i`): name, runs, lengths, ease; show, flip, delete. */
 function seamRow( state, s, i ) {
 
@@ -194,7 +202,7 @@ function seamRow( state, s, i ) {
 	return h( 'tr', { class: [ highlight === i && 'is-highlighted', bad && 'has-problem' ].filter( Boolean ).join( ' ' ) || null, 'data-seam': i },
 		h( 'th', { scope: 'row' }, s.name || `Seam ${ i }` ),
 		h( 'td', { class: 'mp-runs' }, sideText( g, s.a, true ), h( 'br' ), sideText( g, s.b, true ) ),
-		h( 'td', { class: m && ! m.ok ? 'is-bad' : null }, m ? `${ cm( m.a ) } / ${ cm( m.b ) }, ${ pct( m.difference ) }` : '—' ),
+		h( 'td', { class: m && ! m.ok ? 'is-bad' : null }, m ? `${ cm( m.a ) } / ${ cm( m.b ) }, ${ pct( m.difference ) }` : notSewn( g, s, state.size ) ),
 		h( 'td', {}, easeIn ),
 		h( 'td', { class: 'mp-row-actions' },
 			button( 'button--secondary', { 'aria-pressed': String( highlight === i ), 'aria-label': `Show seam ${ s.name || i }`, 'data-key': `s-show-${ i }` },

@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import Annotated, Literal
 
 from fastapi import Path, Query
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_serializer
 
 from catwalk.body.make import RANGES
 
@@ -177,6 +177,26 @@ class Problem(BaseModel):
     message: str
 
 
+class GarmentWarning(BaseModel):
+    """A repair or assumption of the import, or a warning of the check: a garment was made,
+    but not exactly as sent."""
+    model_config = ConfigDict(extra="allow")
+    code: str | None = Field(None, description="what kind: `duplicate-points`, "
+                             "`loop-removed`, `units`, `sample-quantity`, `sizes`, "
+                             "`not-cut`, … (docs/garment-format.md, \"DXF import\"); `check` "
+                             "for the checker's")
+    message: str
+    panel: str | None = Field(None, description="the panel it concerns (as named now)")
+    piece: str | None = Field(None, description="the DXF piece it concerns (as the file "
+                                                "names it)")
+    size: str | None = Field(None, description="the size it concerns (none: every size)")
+
+    @model_serializer(mode="wrap")
+    def _given(self, handler):
+        """Only what the warning says (no nulls for what it does not)."""
+        return {k: v for k, v in handler(self).items() if v is not None}
+
+
 class ErrorBody(BaseModel):
     code: str
     message: str
@@ -278,7 +298,7 @@ class GarmentVersionCreated(BaseModel):
     id: str = Field(description="the garment's catalogue id")
     version: int
     sizes: list[str]
-    warnings: list[str]
+    warnings: list[GarmentWarning]
     dressing: dict[str, SizeDressing]
 
 
@@ -287,7 +307,7 @@ class GarmentVersion(BaseModel):
     content: str = Field(description="the hash of its files (a try-on's garment_version)")
     created_at: str
     sizes: list[str]
-    warnings: list[str]
+    warnings: list[GarmentWarning]
     check_status: Literal["queued", "running", "done"]
     dressing: dict[str, SizeDressing]
 
@@ -317,4 +337,4 @@ class MerchantGarments(BaseModel):
 class DxfImport(BaseModel):
     garment: dict = Field(description="the pieces as a garment JSON without seams")
     pieces: list[dict]
-    warnings: list[str]
+    warnings: list[GarmentWarning]

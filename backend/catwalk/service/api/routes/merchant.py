@@ -277,7 +277,7 @@ def _import(upload: mg.Upload) -> dict:
     pieces, warnings = read_dxf(upload.dxf, units=upload.units)
     g = pieces_to_garment(pieces, "garment", source={"importer": "catwalk merchant editor"})
     return {"garment": garment_to_dict(g), "pieces": [p.summary() for p in pieces],
-            "warnings": warnings}
+            "warnings": mg.panel_names(warnings, g)}
 
 
 @router.post("/import", response_model=schemas.DxfImport, openapi_extra=_IMPORT,
