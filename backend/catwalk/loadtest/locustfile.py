@@ -21,7 +21,8 @@ from locust import FastHttpUser, between, events, tag, task
 
 from catwalk.loadtest.run import BODY
 
-STATE: dict = {"garments": [], "body": None, "done": None, "asked": [], "started": None}
+STATE: dict = {"garments": [], "body": None, "done": None, "asked": [], "started": None,
+               "server_errors": {}, "timeline": {}}
 GARMENT = os.environ.get("CATWALK_LOADTEST_GARMENT", "pencil-skirt")
 
 
@@ -33,6 +34,33 @@ def _prepare(environment, **_):
     with httpx.Client(base_url=environment.host, timeout=60) as http:
         STATE["garments"] = [g["id"] for g in http.get("/api/garments").json()["garments"]]
     STATE["started"] = time.monotonic()
+
+
+@events.request.add_listener
+def _record(request_type, name, response_time, response_length, response=None,
+            exception=None, **_):
+    """Every request's second (since the start) and time, for the timeline; every 5xx by its
+    status, a 503 told apart by whether it says when to come back (``Retry-After``)."""
+    if STATE["started"] is None:
+        return
+    second = int(time.monotonic() - STATE["started"])
+    STATE["timeline"].setdefault(second, []).append(response_time)
+    status = getattr(response, "status_code", 0) or 0
+    if status >= 500:
+        headers = getattr(response, "headers", None) or {}
+        retry = status == 503 and bool(headers.get("Retry-After") or headers.get("retry-after"))
+        key = f"{status}{' Retry-After' if retry else ''} {request_type} {name}"
+        STATE["server_errors"][key] = STATE["server_errors"].get(key, 0) + 1
+
+
+def _timeline() -> list[list]:
+    """[second, requests, p99 ms] for every second of the run."""
+    out = []
+    for second in sorted(STATE["timeline"]):
+        times = sorted(STATE["timeline"][second])
+        out.append([second, len(times), round(times[min(len(times) - 1,
+                                                          int(0.99 * len(times)))], 1)])
+    return out
 
 
 @events.test_stop.add_listener
@@ -67,7 +95,9 @@ def _summarise(environment, **_):
                    "per_route": per_route, "tryons_asked": len(STATE["asked"]),
                    "tryons_done": done, "tryons_per_minute": round(60 * done / elapsed, 2),
                    "errors": [f"{e.method} {e.name}: {e.error} ×{e.occurrences}"
-                              for e in list(stats.errors.values())[:10]]}, fh)
+                              for e in list(stats.errors.values())[:10]],
+                   "asked_ids": STATE["asked"], "server_errors": STATE["server_errors"],
+                   "timeline": _timeline()}, fh)
 
 
 class Shopper(FastHttpUser):

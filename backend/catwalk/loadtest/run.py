@@ -58,18 +58,30 @@ def run(url: str, users: int, seconds: float, garment: str = "pencil-skirt",
     body, done = prepare(url, garment)
     with tempfile.TemporaryDirectory(prefix="catwalk-loadtest-") as tmp:
         out = Path(tmp) / "summary.json"
-        env = dict(os.environ, CATWALK_LOADTEST_OUT=str(out), CATWALK_LOADTEST_GARMENT=garment,
-                   CATWALK_LOADTEST_BODY=body, CATWALK_LOADTEST_DONE=done)
-        cmd = [sys.executable, "-m", "locust", "-f", str(LOCUSTFILE), "--headless",
-               "--host", url.rstrip("/"), "-u", str(users), "-r", str(max(1, users // 2)),
-               "-t", f"{max(1, round(seconds))}s", "--only-summary", "--stop-timeout", "10",
-               "--exit-code-on-error", "0", "--loglevel", "WARNING", *MIXES[mix]]
+        cmd, env = locust_command(url, users, seconds, mix, garment, body, done, out)
         res = subprocess.run(cmd, env=env, capture_output=True, text=True,
                              timeout=seconds + 900)
-        if not out.is_file():
-            raise SetupError(f"locust ended ({res.returncode}) without a summary: "
-                             f"{(res.stderr or res.stdout)[-2000:]}")
-        return {"mix": mix, "users": users, **json.loads(out.read_text())}
+        return summary(out, res.returncode, res.stderr or res.stdout, mix, users)
+
+
+def locust_command(url: str, users: int, seconds: float, mix: str, garment: str, body: str,
+                   done: str, out: Path) -> tuple[list[str], dict]:
+    """Locust headless as ``catwalk loadtest`` runs it (the command and its environment): the
+    summary is written to ``out``."""
+    env = dict(os.environ, CATWALK_LOADTEST_OUT=str(out), CATWALK_LOADTEST_GARMENT=garment,
+               CATWALK_LOADTEST_BODY=body, CATWALK_LOADTEST_DONE=done)
+    cmd = [sys.executable, "-m", "locust", "-f", str(LOCUSTFILE), "--headless",
+           "--host", url.rstrip("/"), "-u", str(users), "-r", str(max(1, users // 2)),
+           "-t", f"{max(1, round(seconds))}s", "--only-summary", "--stop-timeout", "10",
+           "--exit-code-on-error", "0", "--loglevel", "WARNING", *MIXES[mix]]
+    return cmd, env
+
+
+def summary(out: Path, returncode: int, output: str, mix: str, users: int) -> dict:
+    """The summary Locust wrote to ``out`` (:class:`SetupError` if it wrote none)."""
+    if not out.is_file():
+        raise SetupError(f"locust ended ({returncode}) without a summary: {output[-2000:]}")
+    return {"mix": mix, "users": users, **json.loads(out.read_text())}
 
 
 def format_table(r: dict) -> str:
