@@ -128,7 +128,9 @@ def test_the_quadratic_bending_stores_half_b_kappa_squared_in_every_direction(h)
         x = np.stack([R * np.sin(u / R), v, R * (1 - np.cos(u / R))], axis=1)
         lx = lap @ x
         e = 0.5 * np.sum((coef[:, None] * lx * lx)[inner])
-        assert e / (0.5 * area[inner].sum() / R ** 2) == pytest.approx(1.0, abs=0.06)
+        # (anisotropic: B(θ) over the mean rigidity, issue 44's law)
+        want = B.fold_rigidity(m.fabric, a) / B.bending_rigidity(m)
+        assert e / (0.5 * area[inner].sum() / R ** 2) == pytest.approx(want, abs=0.06)
     # the Hessian is what the energy says: ½·xᵀQx summed over the coordinates
     x = np.random.default_rng(0).standard_normal((m.n_points, 3))
     assert 0.5 * np.sum(x * (q @ x)) == pytest.approx(0.5 * np.sum(coef[:, None] *
