@@ -54,11 +54,17 @@ def test_a_flat_cloth_stores_nothing_however_it_is_moved_or_stretched():
 def test_the_force_loop_s_pairs_are_minus_q_x():
     m = build_cloth([Panel(circle(0.1, 40), placement=horizontal(0.5))], fabric="m1", h=0.015)
     q = B.bending_matrix(m)
-    _, _, k, runs = B.bending_pairs(q)
-    x = np.random.default_rng(0).standard_normal((m.n_points, 3))
+    a, b, k, runs = B.bending_pairs(q)
+    rng = np.random.default_rng(0)
+    x, v = rng.standard_normal((m.n_points, 3)), rng.standard_normal((m.n_points, 3))
     F = np.zeros((3, m.n_points))
-    B.add_bending_forces(np.ascontiguousarray(x.T), runs, k, F)
+    c = B.pair_damping(a, b, k, m.mass, 0.05)
+    B.add_bending_forces(np.ascontiguousarray(x.T), np.zeros((3, m.n_points)), runs, k, c, F)
     assert np.abs(F.T + q @ x).max() < 1e-12 * np.abs(q @ x).max()
+    # the damping: along each pair, c ≥ 0, so it only takes energy out (vᵀ·f ≤ 0)
+    F[:] = 0.0
+    B.add_bending_forces(np.zeros((3, m.n_points)), np.ascontiguousarray(v.T), runs, k, c, F)
+    assert np.all(c >= 0) and np.sum(F.T * v) < 0
     assert B.bending_energy(q, x) == pytest.approx(0.5 * np.sum(x * (q @ x)))
 
 

@@ -27,7 +27,7 @@ def _push_back(model, x, ends, q) -> float:
                         model.spring_k, model.spring_c, model.fabric.compression,
                         np.zeros(3), 0.0, none, none, 0.0, F)
     _, _, k, bruns = B.bending_pairs(q)
-    B.add_bending_forces(X, bruns, k, F)
+    B.add_bending_forces(X, np.zeros_like(X), bruns, k, np.zeros_like(k), F)
     return float(F[0, ends].sum())
 
 

@@ -56,8 +56,8 @@ def phases(snap, repeat: int) -> dict:
 
     out = {"forces": best_us(forces, repeat)}
     if bend[0].shape[0]:
-        out["bending (−Q·x)"] = best_us(lambda: bending.add_bending_forces(X, bend[0], bend[1],
-                                                                          F), repeat)
+        out["bending (−Q·x − C·v)"] = best_us(
+            lambda: bending.add_bending_forces(X, V, bend[0], bend[1], bend[2], F), repeat)
     for name, (rr, nl) in parts.items():
         out[name] = best_us(lambda rr=rr, nl=nl: forces(rr, nl), repeat)
     forces()

@@ -264,6 +264,10 @@ def _operator(model: ClothModel, fabric, still: np.ndarray | None = None):
                           (np.concatenate(rows) if rows else np.zeros(0, np.int64),
                            np.concatenate(cols) if cols else np.zeros(0, np.int64))),
                          shape=(n, n))
+    for a in (r, flux):     # entries that cancel to rounding (a cell's diagonals) are none
+        a.sum_duplicates()
+        a.data[np.abs(a.data) <= 1e-12 * np.abs(r.data).max(initial=0.0)] = 0.0
+        a.eliminate_zeros()
     bends = np.ones(len(t), bool) if still is None else ~np.all(still[t], axis=1)
     point_area = np.zeros(n)
     for c in range(3):
@@ -332,14 +336,29 @@ def bending_energy(q: sp.spmatrix, x: np.ndarray) -> float:
     return 0.5 * float(np.sum(x * (q @ x)))
 
 
+def pair_damping(a: np.ndarray, b: np.ndarray, k: np.ndarray, mass: np.ndarray,
+                 ratio: float) -> np.ndarray:
+    """Damping along each pair of :func:`bending_pairs` as along a spring (the fabric's
+    damping ``ratio`` ζ of the pair's own critical damping): c = 2ζ·√(|k|·m_red) ≥ 0, so the
+    damping only ever takes energy out (without it the bending's grid-scale modes are damped
+    by the air alone, and the ordered pass fed a soft fabric's flapping: silk charmeuse on
+    the drape tester at h = 1 cm reached 10–27 m/s)."""
+    m_red = mass[a] * mass[b] / (mass[a] + mass[b])
+    return np.ascontiguousarray(2.0 * ratio * np.sqrt(np.abs(k) * m_red))
+
+
 @numba.njit(cache=True, error_model="numpy")
-def add_bending_forces(X, runs, k, F):
-    """F += −Q·X on (3, n) arrays, Q as the pairs of :func:`bending_pairs` in runs: for a
-    pair (a, b), k·(x_b − x_a) on a and its opposite on b."""
+def add_bending_forces(X, V, runs, k, c, F):
+    """F += −Q·X − C·V on (3, n) arrays, Q as the pairs of :func:`bending_pairs` in runs and C
+    their damping (:func:`pair_damping`): for a pair (a, b), k·(x_b − x_a) + c·(v_b − v_a) on a
+    and its opposite on b."""
     b0, b1, b2 = springs.run_buffers(runs)
     x0 = X[0]
     x1 = X[1]
     x2 = X[2]
+    v0 = V[0]
+    v1 = V[1]
+    v2 = V[2]
     f0 = F[0]
     f1 = F[1]
     f2 = F[2]
@@ -350,9 +369,10 @@ def add_bending_forces(X, runs, k, F):
         nl = runs[q, 3]
         for t in range(nl):
             kk = k[s0 + t]
-            b0[t] = kk * (x0[c0 + t] - x0[a0 + t])
-            b1[t] = kk * (x1[c0 + t] - x1[a0 + t])
-            b2[t] = kk * (x2[c0 + t] - x2[a0 + t])
+            cc = c[s0 + t]
+            b0[t] = kk * (x0[c0 + t] - x0[a0 + t]) + cc * (v0[c0 + t] - v0[a0 + t])
+            b1[t] = kk * (x1[c0 + t] - x1[a0 + t]) + cc * (v1[c0 + t] - v1[a0 + t])
+            b2[t] = kk * (x2[c0 + t] - x2[a0 + t]) + cc * (v2[c0 + t] - v2[a0 + t])
         for t in range(nl):
             f0[a0 + t] += b0[t]
         for t in range(nl):

@@ -45,9 +45,9 @@ StepOrder = namedtuple("StepOrder", "ord_pts ord_ptr ord_oth ord_cross ord_lim o
                        "pt_cross adj_ptr adj_other")
 StepPlanes = namedtuple("StepPlanes", "plane_idx planes plane_t")
 StepWork = namedtuple("StepWork", "X V XP XPREV F R dirty")
-#: the quadratic bending −Q·x as pairs in runs (:func:`catwalk.cloth.bending.bending_pairs`;
-#: none with the paper's bend springs)
-StepBend = namedtuple("StepBend", "runs k")
+#: the quadratic bending −Q·x − C·v as pairs in runs (:func:`catwalk.cloth.bending.bending_pairs`,
+#: :func:`~catwalk.cloth.bending.pair_damping`; none with the paper's bend springs)
+StepBend = namedtuple("StepBend", "runs k c")
 
 
 # The step works on structure-of-arrays copies of positions and velocities (``X``, ``V``: (3, n),
@@ -333,7 +333,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     vmax = limit[7]
     plane_t = contact[2]
     X, V, XP, XPREV, F, R, dirty = work
-    bend_runs, bend_k = bend
+    bend_runs, bend_k, bend_c = bend
     to_soa(x, X)
     to_soa(v, V)
     qbuf, dbuf = _order_buffers(order[0], order[1])
@@ -343,7 +343,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
         accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air,
                           seam_a, seam_b, seam_k, F)
         if bend_runs.shape[0]:
-            add_bending_forces(X, bend_runs, bend_k, F)
+            add_bending_forces(X, V, bend_runs, bend_k, bend_c, F)
         st, bad = integrate_velocities(V, F, w_int, dt, vmax)
         if st != 0:
             out_bad[0] = step

@@ -239,20 +239,25 @@ class Solver:
             self._lam_seam = np.zeros(len(self._seam_a))
 
     def _bending_pairs(self, model: ClothModel, still=None):
-        """The quadratic bending's Q as (pairs' runs, their k, Gershgorin's row bound), made
-        once per model, fabric and set of pinned points (``still``: a triangle whose corners
-        are all pinned does not bend, :func:`catwalk.cloth.bending.bending_matrix`;
-        ``_prepare`` runs again when the sewing is switched); none with the bend springs."""
+        """The quadratic bending's Q as (pairs' runs, their k, their damping c, Gershgorin's
+        row bounds of Q and of C), made once per model, fabric and set of pinned points
+        (``still``: a triangle whose corners are all pinned does not bend,
+        :func:`catwalk.cloth.bending.bending_matrix`; ``_prepare`` runs again when the sewing
+        is switched); none with the bend springs."""
+        n = model.n_points
         if self.bend_law != "quadratic":
-            return np.zeros((0, 4), np.int64), np.zeros(0), np.zeros(model.n_points)
-        if still is not None and (len(still) != model.n_points or not still.any()):
+            return (np.zeros((0, 4), np.int64), np.zeros(0), np.zeros(0), np.zeros(n),
+                    np.zeros(n))
+        if still is not None and (len(still) != n or not still.any()):
             still = None
-        key = (id(model), id(model.fabric), model.n_points,
-               None if still is None else still.tobytes())
+        key = (id(model), id(model.fabric), n, None if still is None else still.tobytes())
         if self._bend_cache is None or self._bend_cache[0] != key:
             q = bending_law.bending_matrix(model, still=still)
-            _, _, k, runs = bending_law.bending_pairs(q)
-            self._bend_cache = (key, (runs, k, bending_law.row_bound(q)))
+            a, b, k, runs = bending_law.bending_pairs(q)
+            c = bending_law.pair_damping(a, b, k, model.mass, model.fabric.damping)
+            c_row = np.bincount(a, weights=c, minlength=n) + np.bincount(b, weights=c,
+                                                                         minlength=n)
+            self._bend_cache = (key, (runs, k, c, bending_law.row_bound(q), c_row))
         return self._bend_cache[1]
 
     def _stability(self, model: ClothModel) -> tuple[float, float]:
@@ -263,7 +268,8 @@ class Solver:
         for ends in (model.spring_a[:m_spr], model.spring_b[:m_spr]):
             np.add.at(ksum, ends, model.spring_k[:m_spr])
             np.add.at(csum, ends, model.spring_c[:m_spr])
-        ksum += 0.5 * self._bend_pairs[2]
+        ksum += 0.5 * self._bend_pairs[3]
+        csum += self._bend_pairs[4]
         if self.sewing and len(model.seam_a):
             # (the seams' damping is implicit, kernels.damp_seams: no bound)
             for ends in (model.seam_a, model.seam_b):
@@ -425,7 +431,7 @@ class Solver:
         order = K.StepOrder(o.points, o.ptr, o.others, o.cross, self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
-        bend = K.StepBend(self._bend_pairs[0], self._bend_pairs[1])
+        bend = K.StepBend(*self._bend_pairs[:3])
         return (tuple(step_model), tuple(seams), tuple(limit), tuple(order),
                 tuple(self._planes(state)), tuple(work), tuple(bend))
 
