@@ -58,7 +58,7 @@ def test_bench_drape_says_the_error_against_the_measured_fabrics_and_probes_a_pr
     assert main([*args, "--bend-scale", "30"]) == 0
     stiff = json.loads(capsys.readouterr().out)
     assert stiff["probes"]["bend_scale"] == 30
-    assert stiff["fabrics"]["m2"]["dc"] > res["fabrics"]["m2"]["dc"] + 0.05
+    assert stiff["fabrics"]["m6"]["dc"] > res["fabrics"]["m6"]["dc"] + 0.05
 
 
 def test_bench_cantilever_json(capsys):

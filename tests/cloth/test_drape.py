@@ -32,15 +32,15 @@ def test_drape_coefficient_rises_with_bending_stiffness():
     for scale in (0.3, 3.0, 30.0):
         fab = base.with_(bend_warp=base.bend_warp * scale, bend_weft=base.bend_weft * scale)
         r = cusick_drape(fab, h=0.02, max_seconds=3.0)
-        assert r.seconds > 2.0
+        assert r.settled
         assert np.all(r.state.positions[:, 1] < 0.5 + 0.01)  # lies on the disc, hangs below
         dcs.append(r.dc)
     assert 0.0 < dcs[0] < dcs[1] < dcs[2] < 1.0
     assert dcs[2] - dcs[0] > 0.15
 
 
-@pytest.mark.xfail(strict=True, reason="known limit: the drape depends on h (m3: DC 0.345 at "
-                   "1.5 cm, 0.118 at 2 cm, where it drapes as a four-node square); docs/cloth.md, "
+@pytest.mark.xfail(strict=True, reason="known limit: the drape depends on h (m3: DC 0.376 at "
+                   "1.5 cm, 0.130 at 2 cm, where it drapes as a square); docs/cloth.md, "
                    "'Against measured drape, and against h'")
 def test_the_drape_coefficient_does_not_depend_on_the_grid_beyond_0_02():
     fab = get_fabric("m3")
@@ -72,7 +72,7 @@ def test_the_drape_bench_s_figures_for_one_fabric(capsys):
 
     res = json.loads(capsys.readouterr().out)
     r = res["fabrics"]["m1"]
-    assert r["dc"] == pytest.approx(0.357, abs=0.02) and 6 <= r["nodes"] <= 8
+    assert r["dc"] == pytest.approx(0.383, abs=0.02) and 6 <= r["nodes"] <= 8
     m = res["against_measured"]["fabrics"]["m1"]
     assert (m["measured"], m["clo3d"]) == (0.223, 0.349)
     assert m["error"] == pytest.approx(r["dc"] - 0.223, abs=1e-4)
