@@ -3,6 +3,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from catwalk.cli.main import main
 
@@ -57,7 +58,21 @@ def test_bench_drape_says_the_error_against_the_measured_fabrics_and_probes_a_pr
     assert main([*args, "--bend-scale", "30"]) == 0
     stiff = json.loads(capsys.readouterr().out)
     assert stiff["probes"]["bend_scale"] == 30
-    assert stiff["fabrics"]["m2"]["dc"] > res["fabrics"]["m2"]["dc"] + 0.05
+    assert stiff["fabrics"]["m6"]["dc"] > res["fabrics"]["m6"]["dc"] + 0.05
+
+
+def test_bench_cantilever_json(capsys):
+    assert main(["bench", "cantilever", "--json", "--fabrics", "denim", "--h", "0.01"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["h"] == [0.01] and list(res["fabrics"]) == ["denim"]
+    r = res["fabrics"]["denim"]
+    assert set(r) == {"bending_length_m", "expected_m", "error", "settles", "worst_error"}
+    for d in ("warp", "weft"):
+        c = r["bending_length_m"][d]["0.01"]
+        assert r["error"][d]["0.01"] == pytest.approx(c / r["expected_m"][d] - 1, abs=1e-3)
+        assert abs(r["error"][d]["0.01"]) < 0.1          # denim bends over 1.7–2 cm
+    assert r["expected_m"]["warp"] > r["expected_m"]["weft"]
+    assert res["worst_error"] == r["worst_error"]
 
 
 def test_bench_bad_input_exits_2():
@@ -65,7 +80,9 @@ def test_bench_bad_input_exits_2():
                  ["bench", "drape", "--shear-scale", "0"],
                  ["bench", "drape", "--compression", "1.5"],
                  ["bench", "drape", "--fabrics", "denim", "--plot", "dc.png"],
-                 ["bench", "cloth", "--methods", "magic"]):
+                 ["bench", "cloth", "--methods", "magic"],
+                 ["bench", "cantilever", "--h", "-1"], ["bench", "cantilever", "--h", "0.2"],
+                 ["bench", "cantilever", "--fabrics", "tweed"]):
         res = subprocess.run([sys.executable, "-m", "catwalk.cli.main", *args], capture_output=True,
                              text=True)
         assert res.returncode == 2, args

@@ -285,3 +285,22 @@ def test_after_collision_moves_held_points_only_when_asked():
     p0 = x[0].copy()
     solver.after_collision(model, state, 1e-3, move_held=True)
     np.testing.assert_array_equal(x[0], p0)
+
+
+def test_the_explicit_solver_bends_by_the_quadratic_law_or_the_paper_s_springs():
+    """The default: the law of cloth/bending.py, −Q·x a step, its bound in the stable step;
+    ``integrator="paper"``: the paper's bend springs (the seed's reference scheme)."""
+    m, st = hanging_cloth(0.3, 0.3, h=0.02, fabric="m3", pins="edge")
+    assert Solver(m).bend_law == "quadratic"
+    paper = Solver(m, integrator="paper")
+    assert (paper.bend_law, paper.integrator) == ("springs", "explicit")
+    assert Solver(m, bending="springs").dt_stable == paper.dt_stable
+    with pytest.raises(CatwalkError):
+        Solver(m, bending="hinges")
+    # ten thousand times the bending: a shorter stable step, and stable at it
+    stiff = m.fabric.with_(bend_warp=m.fabric.bend_warp * 1e4, bend_weft=m.fabric.bend_weft * 1e4)
+    ms, ss = hanging_cloth(0.3, 0.3, h=0.02, fabric=stiff, pins="edge")
+    sol = Solver(ms, extra_air=1.0)
+    assert sol.dt_stable < 0.9 * Solver(m).dt_stable
+    sol.run(ms, ss, 0.5)
+    assert np.all(np.isfinite(ss.positions)) and sol.last_speed(ss) < 1.0

@@ -57,5 +57,5 @@ def test_the_reference_walk_responds_after_every_cloth_step():
 
 def test_the_reference_walk_is_explicit_whatever_the_default_integrator():
     s = reference_walk_settings(preset("balanced").with_(integrator="xpbd"), 95)
-    assert s.integrator == "explicit"
+    assert s.integrator == "paper"     # the explicit integrator with the paper's bend springs
     assert s.min_collisions == s.max_collisions == 95

@@ -6,6 +6,8 @@
 - ``cloth-hanging.png``: a paper-size cloth (cotton jersey) hanging from two corners held 40 %
   closer together than its width.
 - ``cloth-drape.png``: Cusick drape of denim and of silk charmeuse.
+- ``dress-fabrics.png``: the catalogue's dress in the lightest fabric (silk charmeuse) and the
+  stiffest (denim), side by side.
 """
 
 from __future__ import annotations
@@ -16,13 +18,18 @@ from pathlib import Path
 import numpy as np
 from PIL import Image, ImageDraw
 
+from catwalk.catalogue.bodies import sample_body
+from catwalk.catalogue.garments import catalogue_files
 from catwalk.cloth.builder import Panel, build_cloth, rectangle, vertical
 from catwalk.cloth.drape import cusick_drape
 from catwalk.cloth.scenes import paper_size_cloth
 from catwalk.cloth.solvers.explicit.solver import Solver
 from catwalk.cloth.state import State
+from catwalk.exchange.garment_json import load_garment
 from catwalk.render.cloth import render_cloth
 from catwalk.render.preview import render_meshes
+from catwalk.simulate import preset
+from catwalk.simulate.dressing import dress
 
 
 def _order_panel(pinned_uv, size=420, h=0.02, n=7, title=""):
@@ -106,16 +113,42 @@ def drape_figure(path) -> None:
     out.save(path)
 
 
+def fabrics_figure(path, fabrics=("silk-charmeuse", "denim"), h: float = 0.015) -> None:
+    """The catalogue's dress (M, on its sample body, balanced preset) in the lightest and the
+    stiffest fabric side by side, front and side, in one plain colour (the catalogue's plaid
+    hides folds)."""
+    g = load_garment(next(p for p in catalogue_files() if p.stem == "dress"))
+    body = sample_body(g.fit["M"])
+    tiles = []
+    for fab in fabrics:
+        d = dress(body, g, "M", fab, preset("balanced").with_(h=h))
+        meshes = [(body.vertices, body.faces, (0.80, 0.66, 0.58)),
+                  (d.state.positions, d.model.triangles, (0.62, 0.16, 0.20))]
+        img = np.concatenate([render_meshes(meshes, view=v, size=(300, 450))
+                              for v in ("front", "side")], axis=1)
+        tile = Image.fromarray(img)
+        ImageDraw.Draw(tile).text((10, 10), f"{fab} (h = {h * 100:g} cm)", fill=(0, 0, 0))
+        tiles.append(tile)
+    out = Image.new("RGB", (sum(t.width for t in tiles), tiles[0].height), (255, 255, 255))
+    x = 0
+    for t in tiles:
+        out.paste(t, (x, 0))
+        x += t.width
+    out.save(path)
+
+
 def main(argv=None) -> int:
     folder = Path((argv or sys.argv[1:] or ["docs/img"])[0])
     folder.mkdir(parents=True, exist_ok=True)
-    which = set((argv or sys.argv[1:])[1:]) or {"order", "hanging", "drape"}
+    which = set((argv or sys.argv[1:])[1:]) or {"order", "hanging", "drape", "fabrics"}
     if "order" in which:
         order_figure(folder / "cloth-order.png")
     if "hanging" in which:
         hanging_figure(folder / "cloth-hanging.png")
     if "drape" in which:
         drape_figure(folder / "cloth-drape.png")
+    if "fabrics" in which:
+        fabrics_figure(folder / "dress-fabrics.png")
     return 0
 
 

@@ -27,7 +27,7 @@ import numpy as np
 from timing import best_us  # tools/profile/timing.py (the tools run as scripts)
 
 from catwalk.bench.paper import paper_dressed
-from catwalk.cloth import contact_planes, springs, strain_limit
+from catwalk.cloth import bending, contact_planes, springs, strain_limit
 from catwalk.cloth.solvers.explicit import kernels as K
 from catwalk.cloth.solvers.explicit import solver as S
 from catwalk.simulate import walking as W
@@ -36,7 +36,7 @@ from catwalk.simulate import walking as W
 def phases(snap, repeat: int) -> dict:
     """µs a call of each phase of one explicit step on the copied state ``snap``."""
     x, v, xprev, h, groups = snap
-    model, seams, limit, order, contact, work = groups
+    model, seams, limit, order, contact, work, bend = groups
     (mass, w_int, w_lim, sa, sb, rest, k, c, n_lim, runs, n_runs_lim, compress, gravity,
      air) = model
     X, V, XP, XPREV, F, R, dirty = work
@@ -55,6 +55,9 @@ def phases(snap, repeat: int) -> dict:
                             seams[1], seams[2], F)
 
     out = {"forces": best_us(forces, repeat)}
+    if bend[0].shape[0]:
+        out["bending (−Q·x − C·v)"] = best_us(
+            lambda: bending.add_bending_forces(X, V, bend[0], bend[1], bend[2], F), repeat)
     for name, (rr, nl) in parts.items():
         out[name] = best_us(lambda rr=rr, nl=nl: forces(rr, nl), repeat)
     forces()
@@ -93,7 +96,7 @@ def phases(snap, repeat: int) -> dict:
 
     def ten_steps():
         K.run_steps(x.copy(), v.copy(), xprev.copy(), h, 10, model, seams, limit, order,
-                    contact, work, bad)
+                    contact, work, bend, bad)
 
     def copies():
         x.copy(), v.copy(), xprev.copy()

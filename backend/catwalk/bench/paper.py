@@ -234,18 +234,19 @@ def limb_contacts(body, motion, w) -> dict:
 
 
 def reference_walk_settings(walking, steps_per_frame: int):
-    """The explicit reference: the walk's settings with the explicit integrator and a
+    """The explicit reference: the walk's settings with the explicit integrator and the
+    paper's bend springs (``paper``) and a
     collision response after every cloth step (the seed's scheme: ``steps_per_frame``, the
     explicit solver's steps a frame, responses in every frame), so that no contact plane has
     to carry the cloth between two."""
     n = int(steps_per_frame)
-    return walking.with_(integrator="explicit", min_collisions=n, max_collisions=n)
+    return walking.with_(integrator="paper", min_collisions=n, max_collisions=n)
 
 
 def explicit_steps_per_frame(dressed, walking, fps: float) -> int:
     """The explicit solver's steps in a frame of the walk (its stable step, whatever the
     walk's own integrator)."""
-    dt = cloth_solver(dressed, walking.with_(integrator="explicit")).dt_max
+    dt = cloth_solver(dressed, walking.with_(integrator="paper")).dt_max
     return int(math.ceil((1.0 / fps) / dt))
 
 

@@ -25,6 +25,7 @@ from catwalk.cloth.state import State
 SPECIMEN_RADIUS = 0.15
 DISC_RADIUS = 0.09
 DISC_HEIGHT = 0.5
+DISC_THICKNESS = 0.001
 
 
 #: a node is a lobe of the shadow's outline at least this far out beyond its neighbouring
@@ -119,8 +120,11 @@ def cusick_drape(fabric, h: float = 0.01, method: str = "ordered", max_seconds: 
     state = State.from_model(model)
     rng = np.random.default_rng(seed)  # a little roughness, so the folds choose their places
     state.positions[:, 1] += rng.uniform(0.0, 0.0005, model.n_points)
-    disc = DiscCollider((0.0, DISC_HEIGHT, 0.0), disc_radius, thickness=0.001, stick=True,
-                        clamp_gap=0.004)
+    clamped = np.hypot(state.positions[:, 0], state.positions[:, 2]) <= disc_radius
+    state.positions[clamped, 1] = DISC_HEIGHT + DISC_THICKNESS
+    state.pinned[clamped] = True
+    # (the disc under the rest: cloth folding back under the clamp stays outside it)
+    disc = DiscCollider((0.0, DISC_HEIGHT, 0.0), disc_radius, thickness=DISC_THICKNESS)
     solver = Solver(model, method, extra_air=extra_air)
     chunk = 0.05
     settled = False

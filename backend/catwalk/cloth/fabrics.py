@@ -165,11 +165,11 @@ PRESETS: dict[str, Fabric] = {
 DEFAULT_FABRIC = "cotton-jersey"
 
 PETRAK_SOURCE = ("Petrak et al., Sustainability 2025, 17, 1388 (CC-BY 4.0): KES-FB derived "
-                 "simulator inputs, via shared/data/fabrics/petrak2025-woven.json")
+                 "simulator inputs, via garments/fabrics/petrak2025-woven.json")
 
 
-# The same six rows as shared/data/fabrics/petrak2025-woven.json (CC-BY 4.0, Petrak et al.
-# 2025), kept here so that a checkout without shared/ still has them.
+# The same six rows as garments/fabrics/petrak2025-woven.json (CC-BY 4.0, Petrak et al.
+# 2025), kept here so that an installed package without the repository still has them.
 _PETRAK_ROWS = [
     {"id": "m1", "name": "polyester twill 3/1", "mass": 0.1352, "bending_warp": 1.95e-6,
      "bending_weft": 0.61e-6, "stretch_warp": 477, "stretch_weft": 459, "shear": 41},
@@ -188,7 +188,13 @@ _PETRAK_ROWS = [
 ]
 
 
+#: the measured fabrics as committed, beside their licence (garments/fabrics/README.md)
+PETRAK_FILE = REPO_DIR / "garments" / "fabrics" / "petrak2025-woven.json"
+
+
 def _petrak_path() -> Path | None:
+    if PETRAK_FILE.is_file():
+        return PETRAK_FILE
     for base in (REPO_DIR, *REPO_DIR.parents):
         for cand in (base / "shared" / "data" / "fabrics" / "petrak2025-woven.json",
                      base.parent / "shared" / "data" / "fabrics" / "petrak2025-woven.json"):

@@ -63,6 +63,16 @@ def model_runs(sa: np.ndarray, sb: np.ndarray, n_lim: int) -> tuple[np.ndarray, 
     return np.ascontiguousarray(np.vstack([lim, bend])), len(lim)
 
 
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def run_buffers(runs):
+    """Three scratch arrays as long as the longest run of ``runs`` (a run's three force
+    components, computed before they are scattered)."""
+    maxl = 1
+    for q in range(runs.shape[0]):
+        maxl = max(maxl, runs[q, 3])
+    return np.empty(maxl), np.empty(maxl), np.empty(maxl)
+
+
 @numba.njit(cache=True, error_model="numpy")
 def to_soa(x, X):
     """X[q, i] = x[i, q]."""

@@ -16,9 +16,10 @@ from collections import namedtuple
 import numba
 import numpy as np
 
+from catwalk.cloth.bending import add_bending_forces
 from catwalk.cloth.contact_planes import apply_planes
 from catwalk.cloth.solvers import STATUS_NONFINITE, STATUS_OK
-from catwalk.cloth.springs import _spring_force, from_soa, to_soa
+from catwalk.cloth.springs import _spring_force, from_soa, run_buffers, to_soa
 from catwalk.cloth.strain_limit import (
     METHOD_ORDERED,
     METHOD_PROVOT,
@@ -44,6 +45,9 @@ StepOrder = namedtuple("StepOrder", "ord_pts ord_ptr ord_oth ord_cross ord_lim o
                        "pt_cross adj_ptr adj_other")
 StepPlanes = namedtuple("StepPlanes", "plane_idx planes plane_t")
 StepWork = namedtuple("StepWork", "X V XP XPREV F R dirty")
+#: the quadratic bending −Q·x − C·v as pairs in runs (:func:`catwalk.cloth.bending.bending_pairs`,
+#: :func:`~catwalk.cloth.bending.pair_damping`; none with the paper's bend springs)
+StepBend = namedtuple("StepBend", "runs k c")
 
 
 # The step works on structure-of-arrays copies of positions and velocities (``X``, ``V``: (3, n),
@@ -85,12 +89,7 @@ def accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravit
         f0[i] = m * (g0 - air * v0[i])
         f1[i] = m * (g1 - air * v1[i])
         f2[i] = m * (g2 - air * v2[i])
-    maxl = 1
-    for q in range(runs.shape[0]):
-        maxl = max(maxl, runs[q, 3])
-    b0 = np.empty(maxl)
-    b1 = np.empty(maxl)
-    b2 = np.empty(maxl)
+    b0, b1, b2 = run_buffers(runs)
     for q in range(runs.shape[0]):
         # max(…, 0): tells the compiler that the indices are not negative (no wrap-around), so
         # that the loops below vectorise
@@ -308,7 +307,8 @@ def clamp_step(x, v, xprev, dt, model, limit, order, contact, work):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work, out_bad):
+def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work, bend,
+              out_bad):
     """``nsteps`` steps of forces + semi-implicit Euler + the chosen strain limit.
 
     The inputs come grouped (named tuples, unpacked here): ``model`` (:data:`StepModel`: the
@@ -319,7 +319,8 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     (:data:`StepOrder`: the ordered pass's order and the points' adjacency), ``contact``
     (:data:`StepPlanes`: contact planes kept after every step, :func:`apply_planes`;
     ``plane_t``: the time since they were set at the call's start) and ``work``
-    (:data:`StepWork`).
+    (:data:`StepWork`), ``bend`` (:data:`StepBend`: the quadratic bending's pairs, none with
+    the paper's bend springs, which are then among the model's springs).
 
     ``x``, ``v``, ``xprev`` are the caller's (n, 3) arrays, copied into the (3, n) work arrays
     ``X``, ``V``, ``XPREV`` and back; ``XP``, ``F``, ``R``, ``dirty`` are scratch. Returns a
@@ -332,6 +333,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     vmax = limit[7]
     plane_t = contact[2]
     X, V, XP, XPREV, F, R, dirty = work
+    bend_runs, bend_k, bend_c = bend
     to_soa(x, X)
     to_soa(v, V)
     qbuf, dbuf = _order_buffers(order[0], order[1])
@@ -340,6 +342,8 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     for step in range(nsteps):
         accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air,
                           seam_a, seam_b, seam_k, F)
+        if bend_runs.shape[0]:
+            add_bending_forces(X, V, bend_runs, bend_k, bend_c, F)
         st, bad = integrate_velocities(V, F, w_int, dt, vmax)
         if st != 0:
             out_bad[0] = step

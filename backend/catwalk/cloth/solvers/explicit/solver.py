@@ -42,6 +42,7 @@ import math
 
 import numpy as np
 
+from catwalk.cloth import bending as bending_law
 from catwalk.cloth import contact_planes, springs, strain_limit
 from catwalk.cloth.model import ClothModel
 from catwalk.cloth.solvers import STATUS_NONFINITE, STATUS_OK, ClothExplosionError, StepInfo
@@ -53,7 +54,12 @@ from catwalk.errors import InputError
 
 METHODS = {"none": strain_limit.METHOD_NONE, "ordered": strain_limit.METHOD_ORDERED,
            "vassilev": strain_limit.METHOD_VASSILEV, "provot": strain_limit.METHOD_PROVOT}
-INTEGRATORS = ("explicit", "xpbd")
+#: ``paper``: the explicit integrator with the paper's bend springs (the seed's reference
+#: scheme, ``catwalk bench paper``'s reference walk)
+INTEGRATORS = ("explicit", "paper", "xpbd")
+#: the explicit integrator's bending: the quadratic law of :mod:`catwalk.cloth.bending` (the
+#: default), or the paper's bend springs (Provot's [i]–[i+2]; the seed's reference scheme)
+BENDING_LAWS = ("quadratic", "springs")
 GRAVITY = (0.0, -9.81, 0.0)
 
 
@@ -78,15 +84,22 @@ def _held_mask(held, n: int) -> np.ndarray:
     return mask
 
 
-def energy(model: ClothModel, state: State, gravity=GRAVITY) -> dict:
-    """Kinetic, spring and gravitational energy (J) of a state."""
+def energy(model: ClothModel, state: State, gravity=GRAVITY, bending: str = "quadratic") -> dict:
+    """Kinetic, spring, bending and gravitational energy (J) of a state: with the
+    ``quadratic`` law (:mod:`catwalk.cloth.bending`) the bend springs are not the model's, with
+    ``springs`` they are (in ``spring``, and ``bending`` is 0)."""
     v = state.velocities
+    x = state.positions
     ke = 0.5 * float(np.sum(model.mass * np.sum(v * v, axis=1)))
-    se = float(springs.spring_energy(state.positions, model.spring_a, model.spring_b,
-                                     model.spring_rest, model.spring_k, model.n_limited,
-                                     model.fabric.compression))
-    ge = -float(np.sum(model.mass * (state.positions @ np.asarray(gravity, dtype=np.float64))))
-    return {"kinetic": ke, "spring": se, "gravity": ge, "total": ke + se + ge}
+    n = model.n_limited if bending == "quadratic" else model.n_springs
+    se = float(springs.spring_energy(x, model.spring_a[:n], model.spring_b[:n],
+                                     model.spring_rest[:n], model.spring_k[:n],
+                                     model.n_limited, model.fabric.compression))
+    be = bending_law.bending_energy(bending_law.bending_matrix(model), x) \
+        if bending == "quadratic" else 0.0
+    ge = -float(np.sum(model.mass * (x @ np.asarray(gravity, dtype=np.float64))))
+    return {"kinetic": ke, "spring": se, "bending": be, "gravity": ge,
+            "total": ke + se + be + ge}
 
 
 def max_strain(model: ClothModel, positions: np.ndarray) -> float:
@@ -115,6 +128,11 @@ class Solver:
     paper: whenever the set changes; a walking body's contacts change at every collision
     response, and the breadth-first order costs about as much as a step).
 
+    ``bending``: ``quadratic`` (the default: the bending energy of :mod:`catwalk.cloth.bending`,
+    its force −Q·x each step, the model's bend springs left out) or ``springs`` (the paper's
+    bend springs, the seed's reference scheme — ``integrator="paper"`` is the explicit
+    integrator with them; the XPBD integrator always takes the springs).
+
     ``integrator``: ``explicit`` (the paper: eq. 2–3 and the chosen strain-limit pass) or
     ``xpbd`` (:func:`catwalk.cloth.solvers.xpbd.kernels.run_steps_xpbd`: the springs as compliant
     constraints, ``xpbd_iterations`` Gauss–Seidel sweeps per step of ``xpbd_dt`` seconds,
@@ -130,13 +148,23 @@ class Solver:
                  extra_air: float = 0.0, tau: float | None = None, max_speed: float = 100.0,
                  allow_unstable: bool = False, held_fixed: bool = True,
                  integrator: str = "explicit", xpbd_dt: float = 1e-3,
-                 xpbd_iterations: int = 8, order_tolerance: float = 0.0):
+                 xpbd_iterations: int = 8, order_tolerance: float = 0.0,
+                 bending: str = "quadratic"):
         if integrator not in INTEGRATORS:
             raise InputError(f"unknown integrator {integrator!r} "
                                f"(choose from {', '.join(INTEGRATORS)})")
         if integrator == "xpbd" and not (math.isfinite(xpbd_dt) and xpbd_dt > 0
                                          and int(xpbd_iterations) >= 1):
             raise InputError("xpbd needs xpbd_dt > 0 s and xpbd_iterations ≥ 1")
+        if integrator == "paper":
+            integrator, bending = "explicit", "springs"
+        if bending not in BENDING_LAWS:
+            raise InputError(f"unknown bending law {bending!r} "
+                             f"(choose from {', '.join(BENDING_LAWS)})")
+        # (the implicit solver, a subclass, has a ``bending`` attribute of its own)
+        self.bend_law = "springs" if integrator == "xpbd" else bending
+        self._bend_cache = None
+        self._bend_still = None
         self.integrator = integrator
         self.xpbd_dt = float(xpbd_dt)
         self.xpbd_iterations = int(xpbd_iterations)
@@ -185,6 +213,7 @@ class Solver:
         # springs in runs of consecutive end points (the vectorised force loop)
         self._runs, self._n_runs_lim = springs.model_runs(model.spring_a, model.spring_b,
                                                           model.n_limited)
+        self._bend_pairs = self._bending_pairs(model, self._bend_still)
         self._centres = None
         self._order_centres = None
         self._order = ProcessingOrder(np.arange(n, dtype=np.int32),
@@ -209,13 +238,38 @@ class Solver:
             self._lam = np.zeros(model.n_springs)
             self._lam_seam = np.zeros(len(self._seam_a))
 
+    def _bending_pairs(self, model: ClothModel, still=None):
+        """The quadratic bending's Q as (pairs' runs, their k, their damping c, Gershgorin's
+        row bounds of Q and of C), made once per model, fabric and set of pinned points
+        (``still``: a triangle whose corners are all pinned does not bend,
+        :func:`catwalk.cloth.bending.bending_matrix`; ``_prepare`` runs again when the sewing
+        is switched); none with the bend springs."""
+        n = model.n_points
+        if self.bend_law != "quadratic":
+            return (np.zeros((0, 4), np.int64), np.zeros(0), np.zeros(0), np.zeros(n),
+                    np.zeros(n))
+        if still is not None and (len(still) != n or not still.any()):
+            still = None
+        key = (id(model), id(model.fabric), n, None if still is None else still.tobytes())
+        if self._bend_cache is None or self._bend_cache[0] != key:
+            q = bending_law.bending_matrix(model, still=still)
+            a, b, k, runs = bending_law.bending_pairs(q)
+            c = bending_law.pair_damping(a, b, k, model.mass, model.fabric.damping)
+            c_row = np.bincount(a, weights=c, minlength=n) + np.bincount(b, weights=c,
+                                                                         minlength=n)
+            self._bend_cache = (key, (runs, k, c, bending_law.row_bound(q), c_row))
+        return self._bend_cache[1]
+
     def _stability(self, model: ClothModel) -> tuple[float, float]:
         n = model.n_points
         ksum = np.zeros(n)
         csum = np.zeros(n)
-        for ends in (model.spring_a, model.spring_b):
-            np.add.at(ksum, ends, model.spring_k)
-            np.add.at(csum, ends, model.spring_c)
+        m_spr = model.n_limited if self.bend_law == "quadratic" else model.n_springs
+        for ends in (model.spring_a[:m_spr], model.spring_b[:m_spr]):
+            np.add.at(ksum, ends, model.spring_k[:m_spr])
+            np.add.at(csum, ends, model.spring_c[:m_spr])
+        ksum += 0.5 * self._bend_pairs[3]
+        csum += self._bend_pairs[4]
         if self.sewing and len(model.seam_a):
             # (the seams' damping is implicit, kernels.damp_seams: no bound)
             for ends in (model.seam_a, model.seam_b):
@@ -228,6 +282,14 @@ class Solver:
                           np.where(b > 0, 2.0 / np.maximum(b, 1e-300), np.inf))
             t0 = np.where(ksum > 0, np.pi * np.sqrt(m / np.maximum(ksum, 1e-300)), np.inf)
         return float(dt.min()), float(t0.min())
+
+    def _pin_bending(self, model: ClothModel, pinned: np.ndarray) -> None:
+        """The bending and the stable step again for another set of pinned points."""
+        self._bend_still = pinned.copy()
+        self._bend_pairs = self._bending_pairs(model, self._bend_still)
+        self.dt_stable, self.t0_eq4 = self._stability(model)
+        if self.integrator == "explicit":
+            self.dt_max = self.safety * self.dt_stable
 
     def set_sewing(self, on: bool, model: ClothModel | None = None) -> None:
         """Switch seam forces (and seam points as tension centres) on or off."""
@@ -287,6 +349,9 @@ class Solver:
         n = model.n_points
         if state.positions.shape != (n, 3) or state.velocities.shape != (n, 3):
             raise InputError(f"state does not match the model ({n} points)")
+        if self.bend_law == "quadratic" and not np.array_equal(
+                state.pinned, self._bend_still if self._bend_still is not None else False):
+            self._pin_bending(model, state.pinned)
         if dt is None:
             dt = self.dt_max
         if not (math.isfinite(dt) and dt > 0):
@@ -338,7 +403,8 @@ class Solver:
         pass takes them back, an XPBD step does not (with them the bench cloth ends 1 ms steps
         of 8 sweeps at strain 0.175, without them at τ = 0.100: docs/cloth.md)."""
         groups = self._step_groups(model, state, w_int, w_lim, react=0.0)
-        K.clamp_step(state.positions, state.velocities, self._xprev, h, groups[0], *groups[2:])
+        K.clamp_step(state.positions, state.velocities, self._xprev, h, groups[0],
+                     *groups[2:6])
 
     def _run_explicit(self, model, state, w_int, w_lim, h, nsteps):
         return K.run_steps(state.positions, state.velocities, self._xprev, h, nsteps,
@@ -348,13 +414,15 @@ class Solver:
     def _step_groups(self, model, state, w_int, w_lim, react: float) -> tuple:
         """The step kernels' inputs, grouped
         (:data:`~catwalk.cloth.solvers.explicit.kernels.StepModel`, ``StepSeams``, ``StepLimit``,
-        ``StepOrder``, the planes, ``StepWork``) as plain
-        tuples: numba types a named tuple several µs slower a call."""
+        ``StepOrder``, the planes, ``StepWork``, ``StepBend``) as plain
+        tuples: numba types a named tuple several µs slower a call. With the quadratic law
+        the force loop takes the stretch and shear springs' runs only."""
         o = self._order
         w = self._work
+        runs = self._runs if self.bend_law == "springs" else self._runs[:self._n_runs_lim]
         step_model = K.StepModel(model.mass, w_int, w_lim, model.spring_a, model.spring_b,
                                  model.spring_rest, model.spring_k, model.spring_c,
-                                 model.n_limited, self._runs, self._n_runs_lim,
+                                 model.n_limited, runs, self._n_runs_lim,
                                  model.fabric.compression, self.gravity,
                                  model.fabric.air + self.extra_air)
         seams = K.StepSeams(self._seam_a, self._seam_b, self.seam_stiffness, self.seam_damping)
@@ -363,8 +431,9 @@ class Solver:
         order = K.StepOrder(o.points, o.ptr, o.others, o.cross, self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
+        bend = K.StepBend(*self._bend_pairs[:3])
         return (tuple(step_model), tuple(seams), tuple(limit), tuple(order),
-                tuple(self._planes(state)), tuple(work))
+                tuple(self._planes(state)), tuple(work), tuple(bend))
 
     def _planes(self, state):
         """The state's contact planes as (point indices, (m, 8) planes, time since set)."""
