@@ -72,7 +72,7 @@ def test_the_drape_bench_s_figures_for_one_fabric(capsys):
 
     res = json.loads(capsys.readouterr().out)
     r = res["fabrics"]["m1"]
-    assert r["dc"] == pytest.approx(0.383, abs=0.02) and 6 <= r["nodes"] <= 8
+    assert r["dc"] == pytest.approx(0.383, abs=0.02) and 6 <= r["nodes"] <= 9
     m = res["against_measured"]["fabrics"]["m1"]
     assert (m["measured"], m["clo3d"]) == (0.223, 0.349)
     assert m["error"] == pytest.approx(r["dc"] - 0.223, abs=1e-4)

@@ -47,7 +47,7 @@ StepPlanes = namedtuple("StepPlanes", "plane_idx planes plane_t")
 StepWork = namedtuple("StepWork", "X V XP XPREV F R dirty")
 #: the quadratic bending −Q·x − C·v as pairs in runs (:func:`catwalk.cloth.bending.bending_pairs`,
 #: :func:`~catwalk.cloth.bending.pair_damping`; none with the paper's bend springs)
-StepBend = namedtuple("StepBend", "runs k c")
+StepBend = namedtuple("StepBend", "runs k c every phase held")
 
 
 # The step works on structure-of-arrays copies of positions and velocities (``X``, ``V``: (3, n),
@@ -153,6 +153,16 @@ def accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravit
         F[0, b] -= fx
         F[1, b] -= fy
         F[2, b] -= fz
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _add_held(F, held):
+    """F += held, on (3, n) arrays."""
+    for q in range(3):
+        f = F[q]
+        h = held[q]
+        for i in range(f.shape[0]):
+            f[i] += h[i]
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -320,7 +330,9 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     (:data:`StepPlanes`: contact planes kept after every step, :func:`apply_planes`;
     ``plane_t``: the time since they were set at the call's start) and ``work``
     (:data:`StepWork`), ``bend`` (:data:`StepBend`: the quadratic bending's pairs, none with
-    the paper's bend springs, which are then among the model's springs).
+    the paper's bend springs, which are then among the model's springs; evaluated into
+    ``held`` at the steps where (``phase`` + step) % ``every`` is 0, and ``held`` added to the
+    forces at every step).
 
     ``x``, ``v``, ``xprev`` are the caller's (n, 3) arrays, copied into the (3, n) work arrays
     ``X``, ``V``, ``XPREV`` and back; ``XP``, ``F``, ``R``, ``dirty`` are scratch. Returns a
@@ -333,7 +345,7 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
     vmax = limit[7]
     plane_t = contact[2]
     X, V, XP, XPREV, F, R, dirty = work
-    bend_runs, bend_k, bend_c = bend
+    bend_runs, bend_k, bend_c, bend_every, bend_phase, held = bend
     to_soa(x, X)
     to_soa(v, V)
     qbuf, dbuf = _order_buffers(order[0], order[1])
@@ -343,7 +355,11 @@ def run_steps(x, v, xprev, dt, nsteps, model, seams, limit, order, contact, work
         accumulate_forces(X, V, mass, runs, n_runs_lim, rest, k, c, compress, gravity, air,
                           seam_a, seam_b, seam_k, F)
         if bend_runs.shape[0]:
-            add_bending_forces(X, V, bend_runs, bend_k, bend_c, F)
+            # the slow bending force evaluated every ``bend_every`` steps and held in between
+            if (bend_phase + step) % bend_every == 0:
+                held[:] = 0.0
+                add_bending_forces(X, V, bend_runs, bend_k, bend_c, held)
+            _add_held(F, held)
         st, bad = integrate_velocities(V, F, w_int, dt, vmax)
         if st != 0:
             out_bad[0] = step

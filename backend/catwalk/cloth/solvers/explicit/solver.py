@@ -56,6 +56,8 @@ METHODS = {"none": strain_limit.METHOD_NONE, "ordered": strain_limit.METHOD_ORDE
            "vassilev": strain_limit.METHOD_VASSILEV, "provot": strain_limit.METHOD_PROVOT}
 #: ``paper``: the explicit integrator with the paper's bend springs (the seed's reference
 #: scheme, ``catwalk bench paper``'s reference walk)
+#: the most steps between two evaluations of the quadratic bending (:meth:`Solver._bend_interval`)
+MAX_BEND_EVERY = 4
 INTEGRATORS = ("explicit", "paper", "xpbd")
 #: the explicit integrator's bending: the quadratic law of :mod:`catwalk.cloth.bending` (the
 #: default), or the paper's bend springs (Provot's [i]–[i+2]; the seed's reference scheme)
@@ -149,7 +151,7 @@ class Solver:
                  allow_unstable: bool = False, held_fixed: bool = True,
                  integrator: str = "explicit", xpbd_dt: float = 1e-3,
                  xpbd_iterations: int = 8, order_tolerance: float = 0.0,
-                 bending: str = "quadratic"):
+                 bending: str = "quadratic", bend_every: int | None = None):
         if integrator not in INTEGRATORS:
             raise InputError(f"unknown integrator {integrator!r} "
                                f"(choose from {', '.join(INTEGRATORS)})")
@@ -165,6 +167,11 @@ class Solver:
         self.bend_law = "springs" if integrator == "xpbd" else bending
         self._bend_cache = None
         self._bend_still = None
+        if bend_every is not None and (isinstance(bend_every, bool) or
+                                       not isinstance(bend_every, int) or bend_every < 1):
+            raise InputError(f"bend_every must be a whole number ≥ 1, got {bend_every!r}")
+        self.bend_every = bend_every
+        self._bend_every_auto = None
         self.integrator = integrator
         self.xpbd_dt = float(xpbd_dt)
         self.xpbd_iterations = int(xpbd_iterations)
@@ -198,6 +205,8 @@ class Solver:
 
     # --- per-model caches ---
     def _prepare(self, model: ClothModel) -> None:
+        self._bend_every_auto = None   # (the bending's interval follows the model and step)
+        self._bend_held = np.zeros((3, model.n_points))
         n = model.n_points
         self._model_id = id(model)
         self._model = model
@@ -259,6 +268,25 @@ class Solver:
                                                                          minlength=n)
             self._bend_cache = (key, (runs, k, c, bending_law.row_bound(q), c_row))
         return self._bend_cache[1]
+
+    def _bend_interval(self, model: ClothModel) -> int:
+        """Steps between two evaluations of the bending force: ``bend_every`` if given, else as
+        many as keep them within half the bending's stable step (each point's
+        ω_b² ≤ Gershgorin's row bound / m), at most :data:`MAX_BEND_EVERY`: the bending is slow
+        against the stretch and shear springs that set the step (docs/cloth.md, "The time
+        step"), so its force is evaluated every few steps and held in between."""
+        if self.bend_every is not None:
+            return self.bend_every
+        if self._bend_every_auto is None:
+            bound = self._bend_pairs[3]
+            if not len(bound):
+                self._bend_every_auto = 1
+            else:
+                w = float(np.sqrt(np.max(bound / model.mass)))
+                dt_b = 2.0 / w if w > 0 else math.inf
+                self._bend_every_auto = int(max(1, min(MAX_BEND_EVERY,
+                                                       0.5 * dt_b // self.dt_max)))
+        return self._bend_every_auto
 
     def _stability(self, model: ClothModel) -> tuple[float, float]:
         n = model.n_points
@@ -431,7 +459,8 @@ class Solver:
         order = K.StepOrder(o.points, o.ptr, o.others, o.cross, self._order_lim, self._order_lim2,
                             self._order_pt_cross, model.adj_ptr, model.adj_other)
         work = K.StepWork(w["X"], w["V"], w["XP"], w["XPREV"], w["F"], w["R"], self._dirty)
-        bend = K.StepBend(*self._bend_pairs[:3])
+        every = self._bend_interval(model)
+        bend = K.StepBend(*self._bend_pairs[:3], every, state.steps % every, self._bend_held)
         return (tuple(step_model), tuple(seams), tuple(limit), tuple(order),
                 tuple(self._planes(state)), tuple(work), tuple(bend))
 
