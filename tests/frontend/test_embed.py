@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import time
 from pathlib import Path
 
 import httpx
 import pytest
 
-from catwalk.bench.shop import ShopSite, open_shop, shop_page
+from catwalk.bench.shop import ShopSite, open_shop, shop_page, strict_policy
 from service.helpers import REPO, Proc, free_port, make_config, service_env
 
 from .conftest import DESKTOP, PHONE
@@ -57,7 +58,8 @@ def shops(tmp_path_factory, one_garment_catalogue, frontend_dist):
         b_pk = merchants.publishable_key(config, "other-shop")
         page = shop_page(service, a["garment"], a["pk"], seconds=1)
         sites.append(ShopSite(a_port, {
-            "/": page, "/secret": shop_page(service, a["garment"], a["key"], seconds=1)}))
+            "/": page, "/secret": shop_page(service, a["garment"], a["key"], seconds=1),
+            "/strict": (page, {"Content-Security-Policy": strict_policy(service)})}))
         sites.append(ShopSite(b_port, {"/": page}))
         yield {"service": service, "a": a, "a_origin": a_origin, "b_origin": b_origin,
                "b_pk": b_pk}
@@ -245,6 +247,18 @@ def test_at_a_phone_size(shops, page_factory, tmp_path):
     assert console.errors == []
 
 
+def test_under_a_strict_content_security_policy(shops, page_factory):
+    """A shop whose pages may reach nothing but the service (strict_policy): the component
+    works, and nothing it does is refused by the policy (no other origin, no inline style)."""
+    page, console = page_factory(DESKTOP)
+    page.goto(shops["a_origin"] + "/strict")
+    make_body(page)
+    follow_progress(page)
+    page.wait_for_function(FRAMES.format(n=10), timeout=90_000)
+    assert page.evaluate("__catwalk.player.hasFitMap()")
+    assert console.errors == []
+
+
 def test_an_origin_not_allowed_is_refused_clearly(shops, page_factory, tmp_path):
     page, _ = page_factory(DESKTOP)
     page.goto(shops["b_origin"] + "/")
@@ -298,3 +312,17 @@ def test_the_editor_shows_the_key_and_sets_the_origins(shops, page_factory, tmp_
     panel.scroll_into_view_if_needed()
     shoot(page, "editor", tmp_path)
     assert [e for e in console.errors if "422" not in e] == []
+
+
+def test_the_component_is_small_besides_three(frontend_dist):
+    """Its own files (the entry and the player's chunk) gzip to at most 200 kB; three.js is a
+    chunk of its own, fetched only once a try-on is asked for (the entry does not import it)."""
+    from catwalk.bench.player import embed_sizes
+
+    built = frontend_dist / "embed" / "v1"
+    sizes = embed_sizes(built)
+    assert sizes["own_gzip_bytes"] <= 200_000, sizes
+    assert sizes["three_gzip_bytes"] > 100_000, sizes                 # three.js is there
+    entry = (built / "catwalk.js").read_text()
+    three = next(p.name for p in (built / "chunks").glob("three-*.js"))
+    assert three not in entry and re.search(r"import\([`'\"]\./chunks/player-view-", entry)

@@ -105,19 +105,31 @@ def shop_page(service: str, garment: str, key: str, *, title: str = "Pencil skir
                             size=esc(size), key=esc(key), extra=extra, options=options)
 
 
-class ShopSite:
-    """Pages (path → HTML) served on 127.0.0.1:``port`` in a thread; ``url`` is its origin."""
+def strict_policy(service: str) -> str:
+    """A shop's Content-Security-Policy that lets its page reach nothing but the service: what
+    the component needs (its script and chunks, its requests, the result's textures as blobs,
+    meshopt's WebAssembly) and the page's own inline script and style."""
+    return (f"default-src 'none'; script-src {service} 'unsafe-inline' 'wasm-unsafe-eval'; "
+            f"connect-src {service} blob:; img-src blob: data:; style-src 'unsafe-inline'")
 
-    def __init__(self, port: int, pages: dict[str, str]):
+
+class ShopSite:
+    """Pages served on 127.0.0.1:``port`` in a thread (path → HTML, or (HTML, headers));
+    ``url`` is its origin."""
+
+    def __init__(self, port: int, pages: dict):
         site = self
 
         class Handler(BaseHTTPRequestHandler):
             def do_GET(self):  # noqa: N802 - http.server's name
                 page = site.pages.get(self.path.split("?", 1)[0])
-                data = (page or "not found").encode()
-                self.send_response(200 if page else 404)
+                text, headers = page if isinstance(page, tuple) else (page, {})
+                data = (text or "not found").encode()
+                self.send_response(200 if text else 404)
                 self.send_header("Content-Type", "text/html; charset=utf-8")
                 self.send_header("Content-Length", str(len(data)))
+                for k, v in headers.items():
+                    self.send_header(k, v)
                 self.end_headers()
                 self.wfile.write(data)
 

@@ -22,6 +22,7 @@ const SERVICE = new URL( import.meta.url ).origin;
 const loadPlayer = () => import( './player-view.js' );
 const PRESETS = [ 'fast', 'balanced', 'accurate' ];
 let css = null;
+let sheet = null;
 let pageKey = null; // the publishable key the components on this page use
 
 /** The walk's length and quality from the attributes (`seconds` 0.5–10, default 3; `preset`). */
@@ -99,8 +100,29 @@ export class CatwalkTryon extends HTMLElement {
 	step( name, ...content ) {
 
 		this.dataset.step = name;
+		const root = this.shadowRoot;
+		clear( root );
 		css ??= toShadowCss( pageCss ) + embedCss;
-		clear( this.shadowRoot ).append( h( 'style', {}, css ), h( 'div', { class: 'cw', part: 'root' }, ...content ) );
+		// a constructed sheet (one for every component, and no inline style for a shop's
+		// Content-Security-Policy to refuse); a <style> where the browser has none
+		if ( 'adoptedStyleSheets' in root && 'replaceSync' in CSSStyleSheet.prototype ) {
+
+			if ( ! sheet ) {
+
+				sheet = new CSSStyleSheet();
+				sheet.replaceSync( css );
+
+			}
+
+			root.adoptedStyleSheets = [ sheet ];
+
+		} else {
+
+			root.append( h( 'style', {}, css ) );
+
+		}
+
+		root.append( h( 'div', { class: 'cw', part: 'root' }, ...content ) );
 
 	}
 

@@ -12,12 +12,13 @@ component). :class:`Shops` (ASGI middleware) lets it through only when
 - it is within the rate limits per key and per shopper (else 429 with ``Retry-After``),
 
 and hands the routes a :class:`~catwalk.service.bodies.Scope` (``scope["catwalk.shop"]``).
-Preflights are answered for those origins only; every answer to an allowed origin names it in
-``Access-Control-Allow-Origin`` (never ``*``, never credentials), with ``Vary: Origin``. A
-refusal of the key or its origin also names the request's origin, so the page can read why (it
-carries nothing else). A secret key (``cwk_…``) is refused in a URL always, and in an
-``Authorization`` header sent from a page of another origin than the service's own (403
-``secret_key_exposed``): the merchant's editor, on the service's origin, still uses it.
+Preflights are answered for those origins only (a refused one names no origin); every answer
+to an allowed origin names it in ``Access-Control-Allow-Origin`` (never ``*``, never
+credentials), with ``Vary: Origin``. A refusal of the key or its origin also names the
+request's origin, so the page can read why (it carries nothing else). A secret key
+(``cwk_…``) is refused in a URL always, and in an ``Authorization`` header sent from a page of
+another origin than the service's own (403 ``secret_key_exposed``): the merchant's editor, on
+the service's origin, still uses it.
 """
 
 from __future__ import annotations
@@ -144,17 +145,17 @@ class Shops:
             return await self.app(scope, receive, send)
         headers = dict(scope.get("headers") or [])
         origin = headers.get(b"origin", b"").decode("latin-1")
+        preflight = scope["method"] == "OPTIONS" and b"access-control-request-method" in headers
         try:
             key = await self._secret_keys(scope, headers)
             if key is None:
                 return await self.app(scope, receive, send)
-            preflight = (scope["method"] == "OPTIONS"
-                         and b"access-control-request-method" in headers)
             shop, route = await self._shop(scope, headers, key, origin, preflight)
             if preflight:
                 return await self._preflight(send, origin, route[0])
             scope["catwalk.shop"] = await self._scope(scope, headers, shop, route[1])
         except Refused as exc:
+            exc.readable = exc.readable and not preflight   # a refused preflight names no one
             return await self._refuse(send, exc, origin)
 
         async def with_cors(msg):
@@ -167,8 +168,10 @@ class Shops:
     async def _secret_keys(self, scope, headers) -> str | None:
         """The ``key`` the query names (None: none); a secret key in the query, or in an
         Authorization header from another origin's page, refused."""
-        query = parse_qs(scope.get("query_string", b"").decode("latin-1"))
-        key = (query.get("key") or [None])[0]
+        raw = scope.get("query_string", b"")
+        key = None
+        if b"key=" in raw:   # most requests name none: no parsing for them
+            key = (parse_qs(raw.decode("latin-1")).get("key") or [None])[0]
         auth = headers.get(b"authorization", b"").decode("latin-1")
         secret_in_header = auth.split(" ", 1)[-1].strip().startswith(merchants.KEY_PREFIX)
         if key is not None and key.startswith(merchants.KEY_PREFIX):
