@@ -76,6 +76,15 @@ class Config(BaseSettings):
                                                "after this long is sent again")
     body_timeout_s: float = Field(default=300.0, gt=0,
                                   description="how long POST /api/bodies waits for a body")
+    rate_key_per_minute: int = Field(
+        default=1200, gt=0,
+        description="requests a shop's publishable key may make a minute (429 beyond)")
+    rate_shopper_per_minute: int = Field(
+        default=120, gt=0,
+        description="requests one shopper on a shop may make a minute (429 beyond)")
+    rate_shopper_jobs_per_hour: int = Field(
+        default=30, gt=0,
+        description="bodies and try-ons one shopper on a shop may ask for an hour (429 beyond)")
     log_level: str = Field(default="INFO")
 
     @field_validator("data_dir", "storage_dir", "catalogue_dir", "bodies_dir", "node_tools_dir",

@@ -1,5 +1,28 @@
 // The catwalk HTTP API (docs/api.md), same origin. Errors are thrown as ApiError (the API's
 // JSON error: code, message, field) or NetworkError (the server could not be reached).
+// A shop's component (src/embed/, docs/embed.md) points it at the service's origin with the
+// shop's publishable key (a query parameter, so that a preflight carries it too) and the
+// shopper's own id (a header): configureApi().
+
+const target = { base: '', key: null, headers: {} };
+
+/** Where the API is (`base`: an origin; '' the page's own), the publishable key every request
+ * names (`key`) and the headers each carries (`headers`). */
+export function configureApi( { base = '', key = null, headers = {} } = {} ) {
+
+	target.base = base.replace( /\/+$/, '' );
+	target.key = key;
+	target.headers = { ...headers };
+
+}
+
+/** The URL of an API path (`/api/…`, with its query) as configured. */
+export function apiUrl( path ) {
+
+	if ( ! target.key ) return target.base + path;
+	return `${ target.base }${ path }${ path.includes( '?' ) ? '&' : '?' }key=${ encodeURIComponent( target.key ) }`;
+
+}
 
 export class ApiError extends Error {
 
@@ -54,9 +77,10 @@ export function parseJson( text ) {
 
 }
 
-async function request( method, path, { json, signal } = {} ) {
+/** `plain`: without the configured headers (a cross-origin request without a preflight). */
+async function request( method, path, { json, signal, plain = false } = {} ) {
 
-	const init = { method, signal, headers: { Accept: 'application/json' } };
+	const init = { method, signal, headers: { Accept: 'application/json', ...( plain ? {} : target.headers ) } };
 	if ( json !== undefined ) {
 
 		init.headers[ 'Content-Type' ] = 'application/json';
@@ -64,7 +88,7 @@ async function request( method, path, { json, signal } = {} ) {
 
 	}
 
-	const res = await fetchOrThrow( path, init );
+	const res = await fetchOrThrow( apiUrl( path ), init );
 	const data = parseJson( await readText( res ) );
 	if ( ! res.ok ) throw errorFromResponse( res.status, data );
 	return data;
@@ -129,9 +153,9 @@ const enc = encodeURIComponent;
 
 export const listGarments = ( opts ) => request( 'GET', '/api/garments', opts ).then( ( d ) => d.garments );
 export const getGarment = ( id, opts ) => request( 'GET', `/api/garments/${ enc( id ) }`, opts );
-export const thumbnailUrl = ( id ) => `/api/garments/${ enc( id ) }/thumbnail.png`;
-export const dressedUrl = ( id ) => `/api/garments/${ enc( id ) }/dressed.glb`;
-export const patternUrl = ( id, size ) => `/api/garments/${ enc( id ) }/pattern.png${ size ? `?size=${ enc( size ) }` : '' }`;
+export const thumbnailUrl = ( id ) => apiUrl( `/api/garments/${ enc( id ) }/thumbnail.png` );
+export const dressedUrl = ( id ) => apiUrl( `/api/garments/${ enc( id ) }/dressed.glb` );
+export const patternUrl = ( id, size ) => apiUrl( `/api/garments/${ enc( id ) }/pattern.png${ size ? `?size=${ enc( size ) }` : '' }` );
 
 // --- optional routes ------------------------------------------------------------------------
 // Size advice (`GET /api/garments/{id}/sizes`) is newer than the rest of the API: ask the
@@ -177,8 +201,9 @@ export function hasSizesRoute( paths ) {
 /** Size advice for a garment on a body, or null when the server has none to give. */
 export async function getSizeAdvice( garmentId, bodyId, opts ) {
 
-	const paths = await apiPaths();
-	if ( ! hasSizesRoute( paths ) ) return null;
+	// a shop's key opens no OpenAPI document; the service a shop's component comes from has it
+	const paths = target.key ? null : await apiPaths();
+	if ( paths && ! hasSizesRoute( paths ) ) return null;
 	try {
 
 		return await request( 'GET', `/api/garments/${ enc( garmentId ) }/sizes?body_id=${ enc( bodyId ) }`, opts );
@@ -212,8 +237,9 @@ export function uploadScan( file, { sex = '', onProgress = () => {}, onSent = ()
 		const form = new FormData();
 		form.append( 'scan', file, file.name );
 		if ( sex ) form.append( 'sex', sex );
-		xhr.open( 'POST', '/api/bodies' );
+		xhr.open( 'POST', apiUrl( '/api/bodies' ) );
 		xhr.setRequestHeader( 'Accept', 'application/json' );
+		for ( const [ k, v ] of Object.entries( target.headers ) ) xhr.setRequestHeader( k, v );
 		xhr.upload.addEventListener( 'progress', ( e ) => {
 
 			if ( e.lengthComputable && e.total > 0 ) onProgress( e.loaded / e.total );
@@ -246,6 +272,6 @@ export function uploadScan( file, { sex = '', onProgress = () => {}, onSent = ()
 export const createTryon = ( req, opts ) => request( 'POST', '/api/tryons', { ...opts, json: req } );
 export const getTryon = ( id, opts ) => request( 'GET', `/api/tryons/${ enc( id ) }`, opts );
 export const cancelTryon = ( id, opts ) => request( 'DELETE', `/api/tryons/${ enc( id ) }`, opts );
-export const tryonEventsUrl = ( id ) => `/api/tryons/${ enc( id ) }/events`;
-export const resultUrl = ( id, { compress = true } = {} ) => `/api/tryons/${ enc( id ) }/result.glb${ compress ? '' : '?compress=0' }`;
-export const previewUrl = ( id ) => `/api/tryons/${ enc( id ) }/preview.png`;
+export const tryonEventsUrl = ( id ) => apiUrl( `/api/tryons/${ enc( id ) }/events` );
+export const resultUrl = ( id, { compress = true } = {} ) => apiUrl( `/api/tryons/${ enc( id ) }/result.glb${ compress ? '' : '?compress=0' }` );
+export const previewUrl = ( id ) => apiUrl( `/api/tryons/${ enc( id ) }/preview.png` );

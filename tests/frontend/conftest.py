@@ -32,15 +32,15 @@ def _run(cmd: list[str]) -> None:
 
 @pytest.fixture(scope="session")
 def frontend_dist() -> Path:
-    """frontend/dist, built (npm ci, npm run build) when it is missing or older than a source
-    file of the pages."""
+    """frontend/dist, built (npm ci, npm run build) when it is missing, or older than a source
+    file of the pages, or without the shops' component (dist/embed)."""
     dist = FRONTEND / "dist"
     index = dist / "index.html"
     sources = [p for d in ("src", "public") for p in (FRONTEND / d).rglob("*") if p.is_file()]
     sources.append(FRONTEND / "index.html")
     stale = index.is_file() and max(p.stat().st_mtime for p in sources if p.exists()) > \
         index.stat().st_mtime
-    if not index.is_file() or stale:
+    if not index.is_file() or stale or not (dist / "embed" / "v1" / "catwalk.js").is_file():
         if shutil.which("npm") is None:
             pytest.fail("frontend/dist is not built and npm is not installed", pytrace=False)
         if not (FRONTEND / "node_modules" / ".package-lock.json").is_file():

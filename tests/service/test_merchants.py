@@ -10,7 +10,6 @@ import copy
 import json
 import subprocess
 import sys
-import time
 
 import pytest
 from fastapi.testclient import TestClient
@@ -18,10 +17,16 @@ from fastapi.testclient import TestClient
 from .helpers import (
     MEASURES,
     REPO,
+    bearer,
+    create_merchant,
     dxf_fixtures,
     make_config,
     service_env,
+    skirt_json,
     start_worker,
+    textures,
+    upload_json,
+    wait_dressing,
     wait_job,
 )
 
@@ -33,49 +38,6 @@ def shop(tmp_path, catalogue_dir, pg_url, redis_url, queue_name):
     env = service_env(tmp_path / "storage", catalogue_dir, database_url=pg_url,
                       broker_url=redis_url, queue=queue_name)
     return env, make_config(env)
-
-
-def create_merchant(env, name: str) -> str:
-    """``catwalk merchant create NAME`` as an operator runs it: the key is the last line."""
-    out = subprocess.run([sys.executable, "-m", "catwalk.cli.main", "merchant", "create", name],
-                         env=env, capture_output=True, text=True, timeout=120, cwd=REPO)
-    assert out.returncode == 0, out.stderr
-    return out.stdout.strip().splitlines()[-1]
-
-
-def bearer(key: str) -> dict:
-    return {"Authorization": f"Bearer {key}"}
-
-
-def skirt_json(**changes) -> dict:
-    g = json.loads((REPO / "garments" / "pencil-skirt.json").read_text())
-    g.update(changes)
-    return g
-
-
-def upload_json(client, key, garment: dict, files=(), method="POST", gid=None):
-    parts = [("garment", ("garment.json", json.dumps(garment).encode(), "application/json"))]
-    parts += [("files", (name, data, "image/png")) for name, data in files]
-    url = "/api/merchant/garments" + (f"/{gid}" if gid else "")
-    return client.request(method, url, files=parts, headers=bearer(key))
-
-
-def textures(garment: dict) -> list[tuple[str, bytes]]:
-    """The catalogue's texture files the garment names (those that exist)."""
-    names = sorted({p["texture"]["image"] for p in garment["panels"] if p.get("texture")})
-    return [(n, (REPO / "garments" / n).read_bytes()) for n in names
-            if (REPO / "garments" / n).is_file()]
-
-
-def wait_dressing(client, key, gid, version, timeout=600.0) -> dict:
-    t0 = time.monotonic()
-    while True:
-        item = client.get(f"/api/merchant/garments/{gid}", headers=bearer(key)).json()
-        v = next(v for v in item["versions"] if v["version"] == version)
-        if v["check_status"] == "done":
-            return v
-        assert time.monotonic() - t0 < timeout, v
-        time.sleep(0.5)
 
 
 def test_keys_from_the_cli_and_who_may_see_what(shop):

@@ -70,3 +70,29 @@ def test_duplicate_active_tryons_are_cancelled_before_the_unique_index(engine):
     with pytest.raises(sa.exc.IntegrityError), engine.begin() as c:   # the index holds now
         c.execute(tryons.insert().values(**_filled(tryons, id="J9", body_id="B1", key="K",
                                                    status="queued")))
+
+
+def test_merchants_made_before_shops_get_a_publishable_key(engine):
+    """0003 → head: each merchant gets its own publishable key, no origin allowed; bodies
+    made before belong to no shop."""
+    _upgrade(engine, "0003")
+    meta = sa.MetaData()
+    merchants = sa.Table("merchants", meta, autoload_with=engine)
+    bodies = sa.Table("bodies", meta, autoload_with=engine)
+    with engine.begin() as c:
+        for i in range(2):
+            c.execute(merchants.insert().values(**_filled(merchants, id=f"M{i}",
+                                                          name=f"shop-{i}",
+                                                          key_sha256=f"{i:064d}")))
+        c.execute(bodies.insert().values(**_filled(bodies, id="B1")))
+    _upgrade(engine, "head")
+    meta = sa.MetaData()
+    merchants = sa.Table("merchants", meta, autoload_with=engine)
+    bodies = sa.Table("bodies", meta, autoload_with=engine)
+    with engine.connect() as c:
+        rows = c.execute(sa.select(merchants.c.publishable_key, merchants.c.origins)).all()
+        shop = c.execute(sa.select(bodies.c.merchant_id, bodies.c.shopper)).one()
+    keys = [k for k, _ in rows]
+    assert len(set(keys)) == 2 and all(k.startswith("pk_") and len(k) == 35 for k in keys)
+    assert [o for _, o in rows] == [None, None]
+    assert tuple(shop) == (None, None)

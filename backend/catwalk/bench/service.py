@@ -66,7 +66,7 @@ def free_port() -> int:
 def _start(port: int, workers: int, storage: Path):
     env = {k: v for k, v in os.environ.items() if not k.startswith("CATWALK_")
            or k in ("CATWALK_DATA_DIR", "CATWALK_DATA", "CATWALK_CATALOGUE_DIR",
-                    "CATWALK_NODE_TOOLS_DIR", "CATWALK_BODIES_DIR")}
+                    "CATWALK_NODE_TOOLS_DIR", "CATWALK_BODIES_DIR", "CATWALK_FRONTEND_DIR")}
     env["CATWALK_STORAGE_DIR"] = str(storage)
     log = open(storage.parent / "serve.log", "wb")
     proc = subprocess.Popen([sys.executable, "-m", "catwalk.cli.main", "serve", "--port", str(port),

@@ -35,7 +35,7 @@ COMMAND_MODULES = [
 GROUPS = {
     "body": "bodies: make from measurements, measure, inspect scans",
     "bench": "benchmarks (each with --json)",
-    "merchant": "merchants' accounts and API keys (operators)",
+    "merchant": "merchants' accounts, API keys, publishable keys and origins (operators)",
 }
 
 

@@ -36,13 +36,40 @@ def _demo(args) -> int:
     return demo.main(args)
 
 
+def _shop_keys(config, args) -> None:
+    """``catwalk merchant publishable-key|origins``."""
+    if args.merchant_command == "publishable-key":
+        key = merchants.publishable_key(config, args.name, new=args.new)
+        print(f"merchant {args.name!r}: {'a new' if args.new else 'its'} publishable key, "
+              "for its shop's pages (<catwalk-tryon key=…>), usable from the origins "
+              f"allowed (`catwalk merchant origins {args.name} https://shop.example`):")
+        print(key)
+        return
+    changing = args.origins or args.add or args.remove or args.clear
+    if args.clear and args.origins:
+        raise InputError("give origins to allow, or --clear, not both", "origins")
+    now = merchants.origins(config, args.name,
+                            replace=[] if args.clear else (args.origins or None),
+                            add=args.add or [], remove=args.remove or [])
+    if args.json:
+        print(json.dumps(now))
+        return
+    told = "now allowed" if changing else "allowed"
+    print(f"merchant {args.name!r}: origins {told} for its publishable key: "
+          f"{len(now)}" + ("" if now else " (its shop's pages cannot use it yet)"))
+    for origin in now:
+        print(origin)
+
+
 def _merchant(args) -> int:
-    """``catwalk merchant create|list|revoke``: against the service's database (migrated
-    first), which must be reachable."""
+    """``catwalk merchant create|list|revoke|publishable-key|origins``: against the
+    service's database (migrated first), which must be reachable."""
     config = get_config()
     try:
         db.migrate(config)
-        if args.merchant_command == "create":
+        if args.merchant_command in ("publishable-key", "origins"):
+            _shop_keys(config, args)
+        elif args.merchant_command == "create":
             key = merchants.create(config, args.name)
             print(f"merchant {args.name!r} created; its API key (shown once, not stored; send "
                   "it as 'Authorization: Bearer KEY'):")
@@ -119,6 +146,25 @@ def register(top, groups) -> None:
     p = merchant.add_parser("revoke", help="revoke a merchant's key (its garments stay)")
     p.add_argument("name")
     p.set_defaults(func=_merchant)
+    p = merchant.add_parser("publishable-key",
+                            help="the merchant's publishable key (pk_…) for its shop's pages, "
+                                 "alone on the last line")
+    p.add_argument("name")
+    p.add_argument("--new", action="store_true",
+                   help="a new key in its place (the old one stops working at once)")
+    p.set_defaults(func=_merchant)
+    p = merchant.add_parser("origins",
+                            help="the origins the shop's pages may use the publishable key "
+                                 "from: list them, or set them (replacing), --add, --remove, "
+                                 "--clear")
+    p.add_argument("name")
+    p.add_argument("origins", nargs="*", metavar="ORIGIN",
+                   help="https://shop.example …: these exactly, replacing those allowed")
+    p.add_argument("--add", action="append", metavar="ORIGIN", help="allow one more")
+    p.add_argument("--remove", action="append", metavar="ORIGIN", help="allow it no more")
+    p.add_argument("--clear", action="store_true", help="allow none")
+    p.add_argument("--json", action="store_true", help="print the list as JSON")
+    p.set_defaults(func=_merchant)
 
     p = groups["bench"].add_parser(
         "service", help="try-ons through the HTTP API: per minute, latency, overhead against "
@@ -132,9 +178,12 @@ def register(top, groups) -> None:
 
     p = groups["bench"].add_parser(
         "player", help="the try-on page in chromium: first frame, download size, work per "
-                       "frame against the try-on's length")
+                       "frame against the try-on's length; the shops' component: its size and "
+                       "its first frame on a shop's page")
     p.add_argument("--seconds", type=float, nargs="+", default=[2.0, 10.0],
                    help="walk lengths to compare (2 10)")
     p.add_argument("--frames", type=int, default=240, help="frames of playback measured")
+    p.add_argument("--no-embed", action="store_true",
+                   help="leave out the shops' component (docs/embed.md)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=_bench_player)

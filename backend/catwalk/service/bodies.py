@@ -3,12 +3,18 @@ written (from measurements, or from a scan with what the scan told), read, shown
 with everything made from it. Made in the API's pool: :mod:`catwalk.service.body_maker`.
 
 A scan and its measurements are personal data: never logged (the log carries the body's id
-and the outcome only), never listed."""
+and the outcome only), never listed.
+
+A body made on a merchant's shop (a request with its publishable key) is that shopper's on that
+shop: it is reached only with the same shop's key and the same shopper's id (a :class:`Scope`),
+never through catwalk's own pages nor another shop's; a body made on catwalk's pages only
+without a shop's key. Each of these reads answers an unknown body and another's alike."""
 
 from __future__ import annotations
 
 import json
 import logging
+from typing import NamedTuple
 
 from catwalk.config import Config
 from catwalk.service import keys
@@ -18,6 +24,31 @@ from catwalk.service.store.files import Storage
 from catwalk.service.store.models import BodyRow
 
 log = logging.getLogger("catwalk.api")
+
+
+class Scope(NamedTuple):
+    """Who asks, on a shop: the merchant whose publishable key came, and the shopper (the
+    SHA-256 of the shopper's own id with the merchant's: :func:`shopper_hash`), None when the
+    request named no shopper."""
+    merchant_id: str
+    shopper: str | None
+
+
+def shopper_hash(merchant_id: str, shopper_id: str) -> str:
+    """The shopper as the database keeps it: one shopper's id gives another hash on each shop,
+    and the id itself is never stored."""
+    return keys.sha256(f"catwalk shopper\0{merchant_id}\0{shopper_id}".encode())
+
+
+def visible(row: BodyRow | None, scope: Scope | None) -> bool:
+    """Whether the body can be reached by who asks: a shop's body by its own shopper on that
+    shop only, a body made on catwalk's pages only without a shop."""
+    if row is None:
+        return False
+    if scope is None:
+        return row.merchant_id is None
+    return (row.merchant_id == scope.merchant_id and scope.shopper is not None
+            and row.shopper == scope.shopper)
 
 
 def view(row: BodyRow) -> dict:
@@ -33,9 +64,11 @@ def view(row: BodyRow) -> dict:
     return out
 
 
-def get(config: Config, body_id: str) -> BodyRow | None:
+def get(config: Config, body_id: str, scope: Scope | None = None) -> BodyRow | None:
+    """The body, if who asks (``scope``) can reach it (:func:`visible`)."""
     with db.session(config) as s:
-        return s.get(BodyRow, body_id)
+        row = s.get(BodyRow, body_id)
+        return row if visible(row, scope) else None
 
 
 def from_measurements(body_id: str, sex: str, values: dict, made: dict) -> BodyRow:
@@ -55,7 +88,10 @@ def from_scan(body_id: str, scan: bytes, fmt: str, made: dict) -> BodyRow:
                    model_measurements=made["model_measurements"])
 
 
-def add(config: Config, row: BodyRow) -> None:
+def add(config: Config, row: BodyRow, scope: Scope | None = None) -> None:
+    """Store the body's row; made on a shop (``scope``), it is that shopper's there."""
+    if scope is not None:
+        row.merchant_id, row.shopper = scope.merchant_id, scope.shopper
     with db.session(config) as s:
         s.add(row)
 

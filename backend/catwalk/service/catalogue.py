@@ -37,6 +37,7 @@ class Entry:
     garment: Garment
     fabric: str
     fabrics: list[str] = field(default_factory=list)
+    merchant_id: str | None = None   # a merchant's published garment: whose
 
     def summary(self) -> dict:
         g = self.garment
@@ -86,10 +87,10 @@ class Catalogue:
         return self._merchant
 
     def _entry(self, gid: str, path: Path, g: Garment, fabrics: list[str],
-               version: str | None = None) -> Entry:
+               version: str | None = None, merchant_id: str | None = None) -> Entry:
         own = g.fabric if isinstance(g.fabric, str) else "custom"
         return Entry(gid, version or garment_version(path, g), path, g, own,
-                     [own] + [f for f in fabrics if f != own])
+                     [own] + [f for f in fabrics if f != own], merchant_id)
 
     def _load(self, published: tuple) -> dict[str, Entry]:
         fabrics = fabric_choices()
@@ -103,7 +104,7 @@ class Catalogue:
                 continue
             out[path.stem] = self._entry(path.stem, path, g, fabrics)
         storage = Storage(self.config.storage_dir) if self.config is not None else None
-        for gid, n, content in published:
+        for gid, n, content, merchant_id in published:
             if gid in out:
                 continue   # a file's garment keeps its id
             old = self._entries.get(gid)
@@ -112,7 +113,8 @@ class Catalogue:
                 continue
             path = storage.merchant_garment_dir(gid, n) / "garment.json"
             try:
-                out[gid] = self._entry(gid, path, load_garment(path), fabrics, content)
+                out[gid] = self._entry(gid, path, load_garment(path), fabrics, content,
+                                       merchant_id)
             except CatwalkError as exc:
                 log.warning(json.dumps({"event": "garment_skipped", "garment": gid,
                                         "error": str(exc)[:300]}))
@@ -148,8 +150,13 @@ class Catalogue:
                 self._listing = [e.summary() for e in self._entries.values()]
             return self._listing
 
-    def get(self, garment_id: str, *, recheck: bool = False) -> Entry:
+    def get(self, garment_id: str, *, recheck: bool = False,
+            merchant_id: str | None = None) -> Entry:
+        """The garment; with ``merchant_id`` (a shop's page asks) only that merchant's
+        published garments: any other is answered as unknown."""
         entry = self.entries(recheck=recheck).get(garment_id)
+        if entry is not None and merchant_id is not None and entry.merchant_id != merchant_id:
+            entry = None
         if entry is None:
             raise InputError(f"no garment {garment_id!r} in the catalogue", "garment_id")
         return entry

@@ -341,17 +341,17 @@ def delete(config: Config, merchant_id: str, garment_id: str) -> None:
         row.published_version = None
 
 
-def published(config: Config) -> list[tuple[str, int, str]]:
-    """(id, version, content) of every published garment, for the catalogue."""
+def published(config: Config) -> list[tuple[str, int, str, str]]:
+    """(id, version, content, merchant id) of every published garment, for the catalogue."""
     with db.session(config) as s:
         rows = s.execute(select(MerchantGarmentRow.id, MerchantGarmentRow.published_version,
-                                GarmentVersionRow.content)
+                                GarmentVersionRow.content, MerchantGarmentRow.merchant_id)
                          .join(GarmentVersionRow, and_(
                              GarmentVersionRow.garment_id == MerchantGarmentRow.id,
                              GarmentVersionRow.version == MerchantGarmentRow.published_version))
                          .where(MerchantGarmentRow.deleted_at.is_(None))
                          .order_by(MerchantGarmentRow.created_at)).all()
-        return [(r[0], int(r[1]), r[2]) for r in rows]
+        return [(r[0], int(r[1]), r[2], r[3]) for r in rows]
 
 
 # ---------------------------------------------------------------- the dressing check as a job

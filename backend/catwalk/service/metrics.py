@@ -1,7 +1,9 @@
 """``GET /metrics``: the service in Prometheus's text format (prometheus-client).
 
 Counted by this API process as it answers: the cache (``catwalk_tryon_cache_total{result}``),
-refused uploads (``catwalk_uploads_refused_total{reason}``) and every request's seconds by route
+refused uploads (``catwalk_uploads_refused_total{reason}``), requests from shops' pages refused
+(``catwalk_shop_requests_refused_total{reason}``: key, origin, route, shopper, secret_key,
+rate) and every request's seconds by route
 (``catwalk_http_request_seconds``). Read at each scrape from the database and the broker — the
 truth every process shares, so the figures cover workers on any host: jobs by state
 (``catwalk_jobs{state}``), messages waiting in the broker (``catwalk_queue_messages``), worker
@@ -84,6 +86,9 @@ class Metrics:
                              registry=self.registry)
         self.refused = Counter("catwalk_uploads_refused", "Uploads refused, by reason",
                                ["reason"], registry=self.registry)
+        self.shops_refused = Counter("catwalk_shop_requests_refused", "Requests from shops' "
+                                     "pages refused, by reason", ["reason"],
+                                     registry=self.registry)
         self.requests = Histogram("catwalk_http_request_seconds", "Seconds to answer a request",
                                   ["route", "method", "code"], buckets=REQUEST_BUCKETS,
                                   registry=self.registry)

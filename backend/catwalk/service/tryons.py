@@ -2,6 +2,10 @@
 (its result stored under the same key), joined to this body's running try-on of the same key,
 or queued as a new job; and a try-on's view (with its result's metrics once done).
 
+On a shop (a :class:`~catwalk.service.bodies.Scope`) a try-on is asked for the shopper's own
+body there and one of that merchant's published garments; it is read through that shop only
+(its id reached from anywhere else is unknown), like its body (:mod:`catwalk.service.bodies`).
+
 Two requests at once for the same try-on: the unique index on active (body, key) lets one row
 in; the other gets that row. A result answered from the cache cannot be deleted (its last body
 going) while the new try-on is added: its row is locked until the new row is in."""
@@ -14,6 +18,7 @@ from catwalk.cloth.fabrics import resolve_fabric
 from catwalk.config import Config
 from catwalk.errors import InputError, NotFound
 from catwalk.service import keys
+from catwalk.service.bodies import Scope, visible
 from catwalk.service.jobs import lifecycle
 from catwalk.service.store import db
 from catwalk.service.store.files import Storage
@@ -34,29 +39,49 @@ def view(config: Config, row: TryOnRow) -> dict:
         return _with_metrics(s, row)
 
 
-def view_of(config: Config, job_id: str) -> dict:
-    """The try-on's JSON, read in one transaction (:class:`NotFound` for an unknown id)."""
+def _reachable(s, row: TryOnRow | None, scope: Scope | None) -> bool:
+    """Whether who asks reaches the try-on: from the shop its body was made on (any shopper
+    of it: a try-on's id, like a link, opens its result but never its body), or, for a body of
+    catwalk's own pages, without a shop."""
+    if row is None:
+        return False
+    body = s.get(BodyRow, row.body_id)
+    owner = body.merchant_id if body is not None else None
+    return owner == (scope.merchant_id if scope is not None else None)
+
+
+def get(config: Config, job_id: str, scope: Scope | None = None) -> TryOnRow | None:
+    """The try-on, if who asks (``scope``) can reach it."""
     with db.session(config) as s:
         row = s.get(TryOnRow, job_id)
-        if row is None:
+        return row if _reachable(s, row, scope) else None
+
+
+def view_of(config: Config, job_id: str, scope: Scope | None = None) -> dict:
+    """The try-on's JSON, read in one transaction (:class:`NotFound` for an unknown id, or
+    one who asks cannot reach)."""
+    with db.session(config) as s:
+        row = s.get(TryOnRow, job_id)
+        if not _reachable(s, row, scope):
             raise NotFound("try-on", job_id)
         return _with_metrics(s, row)
 
 
 def submit(config: Config, catalogue, storage: Storage, body_id: str, garment_id: str,
-           size: str | None, fabric: str | None, seconds: float, preset: str
-           ) -> tuple[TryOnRow, bool, dict]:
+           size: str | None, fabric: str | None, seconds: float, preset: str,
+           scope: Scope | None = None) -> tuple[TryOnRow, bool, dict]:
     """The try-on row for the request: a new queued one, this body's running one with the
     same key, or a done one answered from the cache; (row, needs sending, its JSON).
-    :class:`NotFound` for an unknown body or garment, :class:`InputError` for a size or
+    :class:`NotFound` for an unknown body or garment (on a shop: a body not the shopper's
+    there, a garment not the merchant's published one), :class:`InputError` for a size or
     fabric the garment does not have."""
     try:
-        entry = catalogue.get(garment_id)
+        entry = catalogue.get(garment_id, merchant_id=scope.merchant_id if scope else None)
     except InputError:
         entry = None
     with db.session(config) as s:   # the body and its running try-on read at once
         body = s.get(BodyRow, body_id)
-        if body is None:
+        if not visible(body, scope):
             raise NotFound("body", body_id, "body_id")
         if entry is None:
             raise NotFound("garment", garment_id, "garment_id")

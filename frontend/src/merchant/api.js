@@ -172,3 +172,8 @@ export async function catalogueFabrics( opts ) {
 	return names;
 
 }
+
+/** The merchant: name, its publishable key (pk_…) and the origins its shop's pages are on. */
+export const getMe = ( opts ) => request( 'GET', '/api/merchant/me', opts );
+/** Replace the origins the publishable key may be used from; the merchant as it is then. */
+export const setOrigins = ( origins, opts ) => request( 'PUT', '/api/merchant/origins', { ...opts, json: { origins } } );

@@ -1,5 +1,6 @@
 // The merchant's garments: name, id, latest and published version, and each size's dressing
-// (polled every 2 s while a size is queued or being dressed); "Open" and a DXF import.
+// (polled every 2 s while a size is queued or being dressed); "Open" and a DXF import; the
+// try-on on the merchant's own shop (its publishable key and origins: shop-panel.js).
 
 import { h, clear, nextId, icon } from '../ui/dom.js';
 import { spinner, errorNotice, notice } from '../ui/feedback.js';
@@ -7,6 +8,7 @@ import { typeName } from '../format.js';
 import { urls } from '../router.js';
 import { listGarments, importDxf, isUnauthorised } from './api.js';
 import { versionOf, sizeStatus, anyBusy, publishedText } from './status.js';
+import { shopPanel } from './shop-panel.js';
 
 export function createList( { signal, onOpen, onImported, onUnauthorised, onLogout } ) {
 
@@ -19,6 +21,7 @@ export function createList( { signal, onOpen, onImported, onUnauthorised, onLogo
 		),
 		importBox,
 		h( 'section', { 'aria-labelledby': 'mp-list-title' }, h( 'h2', { id: 'mp-list-title' }, 'Saved garments' ), tableBox ),
+		shopPanel( { signal, onUnauthorised } ),
 	);
 	let timer = null;
 	signal.addEventListener( 'abort', () => clearTimeout( timer ), { once: true } );

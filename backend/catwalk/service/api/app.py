@@ -4,7 +4,9 @@ At start it brings the database schema up to date, starts the recovery loop (job
 died run again; jobs the broker lost are sent again), warms the body pool and starts the
 catalogue's missing thumbnails. Uploads larger than ``CATWALK_UPLOAD_MAX_BYTES`` are refused
 with 413 as soon as their size is known (the header, or the bytes counted so far): never read
-whole.
+whole. Requests from merchants' shop pages (a publishable key) are checked by
+:class:`~catwalk.service.api.embed.Shops`; the component those pages load is served at
+``/embed/`` (:func:`_serve_embed`).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ from fastapi.responses import FileResponse
 
 from catwalk.config import Config, get_config
 from catwalk.service.api import errors
+from catwalk.service.api.embed import Shops
 from catwalk.service.api.errors import ApiError, UploadTooLarge
 from catwalk.service.api.routes import bodies, garments, health, merchant, tryons
 from catwalk.service.body_maker import BodyMaker
@@ -144,7 +147,27 @@ class TimeRequests:
 
 
 # paths that are the API's, never a page: an unknown one is the API's JSON 404
-_NOT_PAGES = ("api/", "healthz", "readyz", "metrics", "docs", "redoc", "openapi.json")
+_NOT_PAGES = ("api/", "healthz", "readyz", "metrics", "docs", "redoc", "openapi.json", "embed/")
+
+
+def _serve_embed(app: FastAPI, root: Path) -> None:
+    """The shops' component (``frontend/dist/embed``: ``/embed/v1/catwalk.js`` and its chunks)
+    for any page to load: public code, so ``Access-Control-Allow-Origin: *`` (a module script
+    from another origin is fetched with CORS) and no credentials. The entry is cached 5
+    minutes (a new release reaches the shops soon); its hashed chunks forever."""
+    root = root.resolve()
+
+    @app.get("/embed/{path:path}", include_in_schema=False)
+    async def embed(path: str):
+        target = (root / path).resolve()
+        if not (path and target.is_file() and target.is_relative_to(root)):
+            raise ApiError(404, f"no such file: /embed/{path[:200]}")
+        hashed = "/chunks/" in f"/{path}"
+        return FileResponse(target, headers={
+            "Cache-Control": "public, max-age=31536000, immutable" if hashed
+            else "public, max-age=300",
+            "Access-Control-Allow-Origin": "*", "Cross-Origin-Resource-Policy": "cross-origin",
+            "X-Content-Type-Options": "nosniff"})
 
 
 def _serve_pages(app: FastAPI, root: Path) -> None:
@@ -290,11 +313,14 @@ def create_app(config: Config | None = None, *, recovery: bool = True,
     for r in (health.router, garments.router, bodies.router, tryons.router, merchant.router):
         app.include_router(r)
     _document(app)
+    if frontend is not None and (frontend / "embed").is_dir():
+        _serve_embed(app, frontend / "embed")
     if frontend is not None and (frontend / "index.html").is_file():
         _serve_pages(app, frontend)
     app.add_middleware(errors.ServerErrors)   # innermost: a 500 keeps the connection
     app.add_middleware(LimitUploads, limit=config.upload_max_bytes,
                        refused=app.state.metrics.refused)
     app.add_middleware(LimitRequestLine)
+    app.add_middleware(Shops, config=config, refused=app.state.metrics.shops_refused)
     app.add_middleware(TimeRequests, histogram=app.state.metrics.requests)
     return app

@@ -11,6 +11,7 @@ from fastapi import Request
 
 from catwalk.config import Config
 from catwalk.service.api.errors import ApiError
+from catwalk.service.bodies import Scope
 from catwalk.service.catalogue import Catalogue
 from catwalk.service.store.files import Storage
 
@@ -38,3 +39,9 @@ async def json_body(request: Request) -> None:
     ctype = request.headers.get("content-type", "").split(";")[0].strip().lower()
     if ctype != "application/json":
         raise ApiError(415, f"send the request as application/json, not {ctype or 'nothing'}")
+
+
+async def shop(request: Request) -> Scope | None:
+    """Who asks, on a merchant's shop (its publishable key, checked by
+    :class:`~catwalk.service.api.embed.Shops`); None for catwalk's own pages."""
+    return request.scope.get("catwalk.shop")

@@ -282,6 +282,19 @@ class PublishRequest(BaseModel):
 class Merchant(BaseModel):
     name: str
     created_at: str
+    publishable_key: str | None = Field(
+        None, description="the key for the shop's pages (`pk_…`): it opens only the shoppers' "
+                          "routes, from the origins below (docs/embed.md)")
+    origins: list[str] = Field(
+        default_factory=list, description="the origins the shop's pages may use the "
+                                          "publishable key from")
+
+
+class Origins(BaseModel):
+    """``PUT /api/merchant/origins``: the origins the shop's pages are on (replacing those
+    allowed before), each as a browser sends it: ``https://shop.example``."""
+    model_config = STRICT
+    origins: list[str] = Field(..., max_length=64)
 
 
 class SizeDressing(BaseModel):

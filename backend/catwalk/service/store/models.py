@@ -2,14 +2,18 @@
 
 - ``bodies``: a shopper's body: where it came from (a scan or measurements), its measurements
   (personal data: never logged, never listed, deleted with the body) and the content key that
-  makes two identical uploads share cached results.
+  makes two identical uploads share cached results; one made on a merchant's shop (with its
+  publishable key) names the merchant and the SHA-256 of the shopper's own id, and is reached
+  only through that shop, by that shopper.
 - ``tryons``: one try-on asked for by a shopper: what (body, garment and version, size,
   fabric, seconds, preset), its state (``queued`` → ``running`` → ``done`` | ``failed`` |
   ``cancelled``), progress, and the worker's heartbeat; ``key`` is the content key of the
   result it makes.
 - ``workers``: the worker processes as last seen (for the metrics).
 - ``merchants``: a merchant (made by an operator, ``catwalk merchant create``): its name and
-  the SHA-256 of its API key (the key itself is shown once and never stored), revoked or not.
+  the SHA-256 of its API key (the key itself is shown once and never stored), revoked or not;
+  its publishable key (``pk_…``: public, for its shop's pages, kept as it is) and the origins
+  those pages may use it from.
 - ``merchant_garments``: a merchant's garment: its catalogue id, its latest version and the
   version published in the catalogue (none: a draft), deleted or not.
 - ``garment_versions``: each upload or change of a garment, immutable: its files under
@@ -54,6 +58,7 @@ class Base(DeclarativeBase):
 
 class BodyRow(Base):
     __tablename__ = "bodies"
+    __table_args__ = (Index("ix_bodies_shop", "merchant_id", "shopper"),)
 
     id: Mapped[str] = mapped_column(String(43), primary_key=True)
     created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
@@ -64,6 +69,9 @@ class BodyRow(Base):
     measurements: Mapped[dict] = mapped_column(JSON)          # the person's
     model_measurements: Mapped[dict] = mapped_column(JSON)    # the made body's
     scan_format: Mapped[str | None] = mapped_column(String(8), nullable=True)
+    # made on a shop: the merchant and the SHA-256 of the shopper's id (else both None)
+    merchant_id: Mapped[str | None] = mapped_column(String(43), nullable=True)
+    shopper: Mapped[str | None] = mapped_column(String(64), nullable=True)
 
 
 class TryOnRow(Base):
@@ -128,12 +136,15 @@ class WorkerRow(Base):
 
 class MerchantRow(Base):
     __tablename__ = "merchants"
+    __table_args__ = (Index("ux_merchants_publishable_key", "publishable_key", unique=True),)
 
     id: Mapped[str] = mapped_column(String(43), primary_key=True)
     name: Mapped[str] = mapped_column(String(64), unique=True)
     key_sha256: Mapped[str] = mapped_column(String(64), unique=True)
     created_at: Mapped[datetime] = mapped_column(DateTime, default=utcnow)
     revoked_at: Mapped[datetime | None] = mapped_column(DateTime, nullable=True)
+    publishable_key: Mapped[str | None] = mapped_column(String(64), nullable=True)
+    origins: Mapped[list | None] = mapped_column(JSON, nullable=True)   # normalised, in order
 
 
 class MerchantGarmentRow(Base):

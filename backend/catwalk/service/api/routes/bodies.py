@@ -2,7 +2,8 @@
 
 A scan is multipart with a ``scan`` file part (OBJ, PLY, STL, GLB; units and up axis are
 detected) and an optional ``sex`` field (inferred from the shape when missing); measurements
-are JSON ``{"sex", "height", "bust", "waist", "hips"}`` in metres.
+are JSON ``{"sex", "height", "bust", "waist", "hips"}`` in metres. On a shop (its publishable
+key, ``api/embed.py``) a body is the shopper's there: made, read and deleted by them only.
 """
 
 from __future__ import annotations
@@ -43,9 +44,9 @@ _BODY_REQUEST = {
                            "sex": {"type": "string", "enum": ["female", "male"]}}}}}}}
 
 
-def _get_row(config: Config, body_id: str) -> BodyRow:
+def _get_row(config: Config, body_id: str, scope: bodies.Scope | None) -> BodyRow:
     check_id(body_id, "body", "body_id")
-    row = bodies.get(config, body_id)
+    row = bodies.get(config, body_id, scope)
     if row is None:
         raise not_found("body", body_id, "body_id")
     return row
@@ -94,7 +95,7 @@ async def _scan(request: Request) -> tuple[bytes, str, str | None]:
              responses=schemas.errors(400, 413, 415, 422, 503),
              response_model_exclude_none=True)
 async def create_body(request: Request, config: Config = Depends(deps.config),
-                      storage=Depends(deps.storage)) -> dict:
+                      storage=Depends(deps.storage), scope=Depends(deps.shop)) -> dict:
     """A body from a scan (multipart) or from measurements (JSON)."""
     ctype = request.headers.get("content-type", "").split(";")[0].strip().lower()
     body_id = jobs.new_id()
@@ -118,7 +119,7 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
         else:
             raise ApiError(415, "send measurements as application/json or a scan as "
                                 "multipart/form-data (a file part named 'scan')")
-        await asyncio.to_thread(bodies.add, config, row)
+        await asyncio.to_thread(bodies.add, config, row, scope)
     except InputError as exc:
         storage.remove_body(body_id)
         if ctype.startswith("multipart"):
@@ -146,8 +147,9 @@ async def create_body(request: Request, config: Config = Depends(deps.config),
 
 @router.get("/{body_id}", response_model=schemas.Body, responses=schemas.errors(404, 503),
             response_model_exclude_none=True)
-def get_body(body_id: schemas.BodyId, config: Config = Depends(deps.config)) -> dict:
-    return bodies.view(_get_row(config, body_id))
+def get_body(body_id: schemas.BodyId, config: Config = Depends(deps.config),
+             scope=Depends(deps.shop)) -> dict:
+    return bodies.view(_get_row(config, body_id, scope))
 
 
 @router.get("/{body_id}/body.glb", response_class=Response,
@@ -156,9 +158,9 @@ def get_body(body_id: schemas.BodyId, config: Config = Depends(deps.config)) -> 
             openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{body_id}/body.glb", include_in_schema=False)
 def body_glb(body_id: schemas.BodyId, request: Request, config: Config = Depends(deps.config),
-             storage=Depends(deps.storage)):
+             storage=Depends(deps.storage), scope=Depends(deps.shop)):
     """The rigged body (skinned mesh, skeleton, landmarks) as glTF."""
-    _get_row(config, body_id)
+    _get_row(config, body_id, scope)
     path = storage.body_glb(body_id)
     if not path.is_file():
         raise not_found("body file", body_id, "body_id")
@@ -170,9 +172,9 @@ def body_glb(body_id: schemas.BodyId, request: Request, config: Config = Depends
 @router.delete("/{body_id}", status_code=204, response_class=Response,
                responses=schemas.errors(404, 503))
 def delete_body(body_id: schemas.BodyId, config: Config = Depends(deps.config),
-                storage=Depends(deps.storage)) -> Response:
+                storage=Depends(deps.storage), scope=Depends(deps.shop)) -> Response:
     """Delete the body, its scan, every try-on made from it and their results (those no
     other body shares). A running try-on of it stops."""
-    _get_row(config, body_id)
+    _get_row(config, body_id, scope)
     bodies.delete(config, storage, body_id)
     return Response(status_code=204)

@@ -1,4 +1,5 @@
-"""The catalogue: ``GET /api/garments``, ``/api/garments/{id}``, its thumbnail and pattern."""
+"""The catalogue: ``GET /api/garments``, ``/api/garments/{id}``, its thumbnail and pattern.
+On a shop (its publishable key) a garment is one of that merchant's published garments."""
 
 from __future__ import annotations
 
@@ -20,9 +21,9 @@ from catwalk.service.sizes import advise
 router = APIRouter(prefix="/api/garments", tags=["garments"])
 
 
-def _entry(catalogue, garment_id: str):
+def _entry(catalogue, garment_id: str, scope=None):
     try:
-        return catalogue.get(garment_id)
+        return catalogue.get(garment_id, merchant_id=scope.merchant_id if scope else None)
     except InputError:
         raise not_found("garment", garment_id, "garment_id") from None
 
@@ -39,8 +40,9 @@ async def list_garments(type: str | None = Query(None, description="only garment
 
 @router.get("/{garment_id}", response_model=schemas.GarmentDetail,
             responses=schemas.errors(404, 422))
-async def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.catalogue)) -> dict:
-    return _entry(catalogue, garment_id).detail()
+async def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.catalogue),
+                      scope=Depends(deps.shop)) -> dict:
+    return _entry(catalogue, garment_id, scope).detail()
 
 
 @router.get("/{garment_id}/thumbnail.png", response_class=Response,
@@ -48,10 +50,10 @@ async def get_garment(garment_id: schemas.GarmentId, catalogue=Depends(deps.cata
             openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{garment_id}/thumbnail.png", include_in_schema=False)
 async def thumbnail(garment_id: schemas.GarmentId, request: Request,
-                    catalogue=Depends(deps.catalogue)):
+                    catalogue=Depends(deps.catalogue), scope=Depends(deps.shop)):
     """The garment dressed on a sample body (front view). Until it has been rendered, the
     flat cutting pattern (not cached)."""
-    entry = _entry(catalogue, garment_id)
+    entry = _entry(catalogue, garment_id, scope)
     thumbs = request.app.state.thumbnails
     path = thumbs.path(entry)
     if not path.is_file():
@@ -70,10 +72,10 @@ async def thumbnail(garment_id: schemas.GarmentId, request: Request,
             openapi_extra=schemas.FILE_HEADERS)
 @router.head("/{garment_id}/dressed.glb", include_in_schema=False)
 async def dressed(garment_id: schemas.GarmentId, request: Request,
-                  catalogue=Depends(deps.catalogue)):
+                  catalogue=Depends(deps.catalogue), scope=Depends(deps.shop)):
     """The garment in its default size dressed on that size's sample body, standing: a
     meshopt-compressed try-on file of one frame (made with the thumbnail)."""
-    entry = _entry(catalogue, garment_id)
+    entry = _entry(catalogue, garment_id, scope)
     thumbs = request.app.state.thumbnails
     path = thumbs.path(entry).with_suffix(".glb")
     if not path.is_file():
@@ -97,9 +99,9 @@ def _pattern(entry, size):
             openapi_extra=schemas.CONDITIONAL_HEADERS)
 @router.head("/{garment_id}/pattern.png", include_in_schema=False)
 async def pattern(garment_id: schemas.GarmentId, request: Request, size: str | None = None,
-                  catalogue=Depends(deps.catalogue)):
+                  catalogue=Depends(deps.catalogue), scope=Depends(deps.shop)):
     """The garment's cutting pattern in one size, drawn flat."""
-    entry = _entry(catalogue, garment_id)
+    entry = _entry(catalogue, garment_id, scope)
     if size is not None and size not in entry.garment.sizes:
         raise ApiError(422, f"garment {garment_id!r} has no size {size!r} (sizes: "
                             f"{', '.join(entry.garment.sizes)})", "size")
@@ -125,12 +127,13 @@ def _recipes_of(path, _mtime_ns: int, _size: int) -> list[dict]:
 @router.get("/{garment_id}/sizes", response_model=schemas.SizeAdvice,
             responses=schemas.errors(404, 422, 503))
 def sizes(garment_id: schemas.GarmentId, body_id: schemas.BodyIdQuery,
-          config=Depends(deps.config), catalogue=Depends(deps.catalogue)) -> dict:
+          config=Depends(deps.config), catalogue=Depends(deps.catalogue),
+          scope=Depends(deps.shop)) -> dict:
     """Size advice: each size's chart (the sample body it was made for) against the body's
     girths, the ease (chart − body, metres), whether it fits, and the size recommended."""
-    entry = _entry(catalogue, garment_id)
+    entry = _entry(catalogue, garment_id, scope)
     check_id(body_id, "body", "body_id")
-    body = bodies.get(config, body_id)
+    body = bodies.get(config, body_id, scope)
     if body is None:
         raise not_found("body", body_id, "body_id")
     girths = {k: v for k, v in (body.measurements or {}).items() if not k.startswith("_")}

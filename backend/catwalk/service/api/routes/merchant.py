@@ -6,6 +6,8 @@
 ``POST /{id}/publish``; each version's dressing check per size, its dressed .glb and files;
 ``POST /api/merchant/import``: a DXF read into garment JSON for the editor (nothing stored).
 Another merchant's garment is answered 404, exactly like one that does not exist.
+``GET /me`` also shows the publishable key (``pk_…``, for the shop's pages) and the origins
+allowed for it, ``PUT /origins`` replaces those; a publishable key never opens these routes.
 """
 
 from __future__ import annotations
@@ -61,6 +63,10 @@ async def merchant(request: Request, config: Config = Depends(deps.config)):
                        headers=_AUTH)
     if scheme.lower() != "bearer" or not key.strip():
         raise ApiError(401, "the Authorization header is 'Bearer KEY'", headers=_AUTH)
+    if key.strip().startswith(merchants.PUBLISHABLE_PREFIX):
+        raise ApiError(401, "a publishable key (pk_…) opens only the shoppers' routes, from "
+                            "the shop's pages; the merchant's routes take its secret API key "
+                            "(cwk_…)", headers=_AUTH)
     row = await asyncio.to_thread(merchants.authenticate, config, key.strip())
     if row is None:
         raise ApiError(401, "the API key is not valid (unknown or revoked)", headers=_AUTH)
@@ -119,6 +125,19 @@ async def _upload(request: Request) -> mg.Upload:
                      markup=await _part(form, "markup"), units=units or None, files=files)
 
 
+def _validated(model, body, shape: str, field: str):
+    """``body`` (parsed JSON) read as ``model``; 422 naming the field at fault, or ``shape``
+    when it is not a JSON object."""
+    if not isinstance(body, dict):
+        raise ApiError(422, shape, field)
+    try:
+        return model.model_validate(body)
+    except ValidationError as exc:
+        e = exc.errors()[0]
+        at = ".".join(str(p) for p in e.get("loc", ())) or None
+        raise ApiError(422, f"{at}: {e['msg']}" if at else e["msg"], at) from None
+
+
 def _rejected(exc: mg.UploadRejected) -> JSONResponse:
     return JSONResponse(error_body(422, str(exc), code="invalid_garment",
                                    problems=exc.problems), status_code=422)
@@ -138,8 +157,25 @@ def _save(config: Config, storage, catalogue, who, upload: mg.Upload,
 
 @router.get("/me", response_model=schemas.Merchant, responses=schemas.errors(401))
 async def me(who=Depends(merchant)) -> dict:
-    """The merchant the key belongs to."""
-    return {"name": who.name, "created_at": who.created_at.isoformat() + "Z"}
+    """The merchant the key belongs to, its publishable key and the origins allowed for it."""
+    return _me(who)
+
+
+def _me(who, origins: list[str] | None = None) -> dict:
+    return {"name": who.name, "created_at": who.created_at.isoformat() + "Z",
+            "publishable_key": who.publishable_key,
+            "origins": list(who.origins or []) if origins is None else origins}
+
+
+@router.put("/origins", response_model=schemas.Merchant, responses=schemas.errors(400, 401, 422))
+async def set_origins(request: Request, config: Config = Depends(deps.config),
+                      who=Depends(merchant)) -> dict:
+    """Replace the origins the shop's pages may use the publishable key from
+    (``{"origins": ["https://shop.example"]}``)."""
+    asked = _validated(schemas.Origins, parse_json(await request.body()),
+                       'the body is {"origins": ["https://shop.example", …]}', "origins").origins
+    origins = await asyncio.to_thread(merchants.set_origins, config, who.id, asked)
+    return _me(who, origins)
 
 
 @router.post("/garments", status_code=201, response_model=schemas.GarmentVersionCreated,
@@ -212,15 +248,8 @@ async def publish_garment(garment_id: str, request: Request,
     raw = await request.body()
     version = None
     if raw.strip():
-        body = parse_json(raw)
-        if not isinstance(body, dict):
-            raise ApiError(422, "the body is {\"version\": n} or empty", "version")
-        try:
-            version = schemas.PublishRequest.model_validate(body).version
-        except ValidationError as exc:
-            e = exc.errors()[0]
-            field = ".".join(str(p) for p in e.get("loc", ())) or None
-            raise ApiError(422, f"{field}: {e['msg']}" if field else e["msg"], field) from None
+        version = _validated(schemas.PublishRequest, parse_json(raw),
+                             "the body is {\"version\": n} or empty", "version").version
     out = await _own(mg.publish, config, who.id, garment_id, version)
     await asyncio.to_thread(catalogue.entries, recheck=True)
     return out
