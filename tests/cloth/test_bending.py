@@ -91,3 +91,30 @@ def test_the_cantilever_bending_length_does_not_depend_on_h(direction):
     for r in got:
         assert r.bending_length / r.expected == pytest.approx(1.0, abs=0.04), r
     assert got[0].bending_length == pytest.approx(got[1].bending_length, rel=0.04)
+
+
+def test_a_welded_seam_s_cells_bend_by_the_law_and_store_nothing_laid_flat():
+    """Two panels sewn edge to edge and welded: a triangle by the seam has a corner of the
+    other panel (its pattern frame lost, laid out from its rest lengths); its grid cell is
+    then taken as one split, not paired across two frames (that gave infinite entries and a
+    NaN step on a merchant's two-piece skirt). Laid flat, the welded sheet of a fabric as stiff
+    along the warp as the weft stores nothing (the seam's triangles bend isotropically, the
+    rest by the fabric's two rigidities: with those unequal a flat sheet's seam feels a small
+    in-plane force)."""
+    from catwalk.cloth.builder import Seam
+    from catwalk.simulate.garment_cloth import weld
+
+    front = rectangle(0.1, 0.1)
+    back = front + [0.15, 0.0]
+    m = build_cloth([Panel(front, "front"), Panel(back, "back")],
+                    [Seam(0, 1, 2, 1, 3, 0, reverse=True)], h=0.02,
+                    fabric=get_fabric("m6").with_(bend_weft=get_fabric("m6").bend_warp))
+    w, rep = weld(m)
+    assert w.n_points < m.n_points
+    q = B.bending_matrix(w)
+    assert np.isfinite(q.data).all() and abs(q - q.T).max() < 1e-12 * abs(q).max()
+    flat = np.zeros((w.n_points, 3))
+    np.add.at(flat, rep, np.column_stack([m.uv[:, 0] - 0.05 * (m.panel == 1), m.uv[:, 1],
+                                          np.zeros(m.n_points)]))
+    flat /= np.bincount(rep, minlength=w.n_points)[:, None]
+    assert np.abs(q @ flat).max() < 1e-9 * abs(q).max()

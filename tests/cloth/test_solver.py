@@ -304,3 +304,25 @@ def test_the_explicit_solver_bends_by_the_quadratic_law_or_the_paper_s_springs()
     assert sol.dt_stable < 0.9 * Solver(m).dt_stable
     sol.run(ms, ss, 0.5)
     assert np.all(np.isfinite(ss.positions)) and sol.last_speed(ss) < 1.0
+
+
+def test_the_bending_held_over_a_few_steps_is_opt_in_and_hangs_like_every_step():
+    """``bend_every=1`` by default; ``"auto"`` evaluates −Q·x − C·v every few steps (as many as
+    the bending's own stable step allows, ≤ MAX_BEND_EVERY) and holds it between: a sheet
+    hung by an edge comes to the same rest within a millimetre."""
+    from catwalk.cloth.solvers.explicit.solver import MAX_BEND_EVERY
+
+    rest = {}
+    for every in (1, "auto", 3):
+        m, st = hanging_cloth(0.3, 0.3, h=0.02, fabric="m3", pins="edge")
+        sol = Solver(m, bend_every=every, extra_air=1.0)
+        sol.run(m, st, 0.6)
+        rest[every] = st.positions.copy()
+        interval = sol._bend_interval(m)
+        assert interval == every if every != "auto" else 1 < interval <= MAX_BEND_EVERY
+    assert Solver(m)._bend_interval(m) == 1
+    for every in ("auto", 3):
+        assert np.abs(rest[every] - rest[1]).max() < 1e-3
+    for bad in (0, 2.5, True, "sometimes"):
+        with pytest.raises(CatwalkError, match="bend_every"):
+            Solver(m, bend_every=bad)

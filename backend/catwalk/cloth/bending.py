@@ -176,10 +176,14 @@ def _edge_keys(t: np.ndarray, n: int) -> np.ndarray:
 _SQUARE_TOLERANCE = 1e-6
 
 
-def _both_splits(t: np.ndarray, p: np.ndarray, n: int):
+def _both_splits(t: np.ndarray, p: np.ndarray, n: int, trusted: np.ndarray):
     """The triangles with each grid cell (two right isosceles triangles on one hypotenuse)
     taken as both of its splits, half each: Delaunay splits the cocircular corners of a
-    cell either way, and the twist's weak form depends on the split. Returns (triangles,
+    cell either way, and the twist's weak form depends on the split. Only triangles in their
+    panel's pattern frame (``trusted``) pair up: a triangle laid out from its rest lengths has
+    a frame of its own, and a welded seam's triangles' corners may lie in two panels' frames,
+    so the other split of such a pair would mix frames (and may be degenerate). Returns
+    (triangles,
     corners (·, 3, 2), weights)."""
     keys = _edge_keys(t, n)
     legs = np.stack([np.linalg.norm(p[:, (c + 2) % 3] - p[:, (c + 1) % 3], axis=1)
@@ -192,7 +196,7 @@ def _both_splits(t: np.ndarray, p: np.ndarray, n: int):
     right = (np.abs(l_a - l_b) <= _SQUARE_TOLERANCE * l_h) & \
         (np.abs(l_h - math.sqrt(2.0) * l_a) <= _SQUARE_TOLERANCE * l_h)
     hk = keys[hyp, idx]
-    cand = np.flatnonzero(right)
+    cand = np.flatnonzero(right & trusted)
     order = cand[np.argsort(hk[cand], kind="stable")]
     ks = hk[order]
     first = np.flatnonzero((ks[1:] == ks[:-1]) &
@@ -228,7 +232,7 @@ def _operator(model: ClothModel, fabric, still: np.ndarray | None = None):
     on_free = np.zeros(n, bool)
     on_free[free_keys // n] = True
     on_free[free_keys % n] = True
-    t, p, wt = _both_splits(t0, p0, n)
+    t, p, wt = _both_splits(t0, p0, n, trusted)
     ok = np.concatenate([trusted, np.ones(len(t) - len(t0), bool)])   # (cells: trusted)
     g, area = _hat_gradients(p)
     area = area * wt

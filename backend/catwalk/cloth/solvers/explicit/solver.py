@@ -151,7 +151,7 @@ class Solver:
                  allow_unstable: bool = False, held_fixed: bool = True,
                  integrator: str = "explicit", xpbd_dt: float = 1e-3,
                  xpbd_iterations: int = 8, order_tolerance: float = 0.0,
-                 bending: str = "quadratic", bend_every: int | None = None):
+                 bending: str = "quadratic", bend_every: int | str = 1):
         if integrator not in INTEGRATORS:
             raise InputError(f"unknown integrator {integrator!r} "
                                f"(choose from {', '.join(INTEGRATORS)})")
@@ -167,9 +167,10 @@ class Solver:
         self.bend_law = "springs" if integrator == "xpbd" else bending
         self._bend_cache = None
         self._bend_still = None
-        if bend_every is not None and (isinstance(bend_every, bool) or
-                                       not isinstance(bend_every, int) or bend_every < 1):
-            raise InputError(f"bend_every must be a whole number ≥ 1, got {bend_every!r}")
+        if bend_every != "auto" and (isinstance(bend_every, bool) or
+                                     not isinstance(bend_every, int) or bend_every < 1):
+            raise InputError(f"bend_every must be a whole number ≥ 1 or 'auto', "
+                             f"got {bend_every!r}")
         self.bend_every = bend_every
         self._bend_every_auto = None
         self.integrator = integrator
@@ -270,12 +271,13 @@ class Solver:
         return self._bend_cache[1]
 
     def _bend_interval(self, model: ClothModel) -> int:
-        """Steps between two evaluations of the bending force: ``bend_every`` if given, else as
-        many as keep them within half the bending's stable step (each point's
-        ω_b² ≤ Gershgorin's row bound / m), at most :data:`MAX_BEND_EVERY`: the bending is slow
-        against the stretch and shear springs that set the step (docs/cloth.md, "The time
-        step"), so its force is evaluated every few steps and held in between."""
-        if self.bend_every is not None:
+        """Steps between two evaluations of the bending force: ``bend_every`` (1 by default),
+        or with ``"auto"`` as many as keep them within half the bending's stable step (each
+        point's ω_b² ≤ Gershgorin's row bound / m), at most :data:`MAX_BEND_EVERY`: the bending
+        is slow against the stretch and shear springs that set the step (docs/cloth.md, "The
+        time step"), so its force may be evaluated every few steps and held in between; not by
+        default (docs/experiments.md)."""
+        if self.bend_every != "auto":
             return self.bend_every
         if self._bend_every_auto is None:
             bound = self._bend_pairs[3]
