@@ -20,3 +20,15 @@ def test_unknown_command_exits_2():
 def test_assets_command(capsys, mpfb2):
     assert main(["assets", "--quiet"]) == 0
     assert str(mpfb2) in capsys.readouterr().out
+
+
+def test_a_misspelt_setting_is_named_and_the_test_variables_are_not(monkeypatch):
+    """``CATWALK_DATABSE_URL`` would quietly give SQLite: it is reported; the tests' own
+    variables (``CATWALK_TEST_*``, the fuzzers' ``CATWALK_FUZZ_*``) are not settings."""
+    from catwalk.config import unknown_variables
+
+    monkeypatch.setenv("CATWALK_DATABSE_URL", "postgresql://x")
+    monkeypatch.setenv("CATWALK_FUZZ_EXAMPLES", "10000")
+    monkeypatch.setenv("CATWALK_TEST_CHROMIUM", "/usr/bin/chromium")
+    monkeypatch.setenv("CATWALK_STORAGE_DIR", "/tmp/x")
+    assert unknown_variables() == ["CATWALK_DATABSE_URL"]

@@ -119,7 +119,7 @@ def unknown_variables() -> list[str]:
     ``CATWALK_DATABSE_URL`` would otherwise quietly give SQLite)."""
     known = {f"CATWALK_{name.upper()}" for name in Config.model_fields} | {"CATWALK_DATA"}
     ours = {k for k in os.environ if k.startswith("CATWALK_")}
-    test_only = {k for k in ours if k.startswith("CATWALK_TEST_")}
+    test_only = {k for k in ours if k.startswith(("CATWALK_TEST_", "CATWALK_FUZZ_"))}
     return sorted(ours - known - test_only)
 
 

@@ -6,9 +6,9 @@ it dies (a crash). :func:`check` turns an answer into a test failure unless the 
 succeeded with a sane result or raised :class:`catwalk.errors.InputError`.
 
 How many inputs each fuzzer tries: ``CATWALK_FUZZ_EXAMPLES`` (default
-:data:`DEFAULT_EXAMPLES`, so the whole suite stays within a minute); the issue's full run is
-``CATWALK_FUZZ_EXAMPLES=1000``. ``CATWALK_FUZZ_SEED`` makes the run random with that seed
-(default: hypothesis's derandomised, repeatable run).
+:data:`DEFAULT_EXAMPLES`, so the whole suite stays within a minute); ``make fuzz`` runs
+10,000 (``FUZZ_EXAMPLES=N`` for another count). ``CATWALK_FUZZ_SEED`` makes the run random
+with that seed (default: hypothesis's derandomised, repeatable run).
 """
 
 from __future__ import annotations

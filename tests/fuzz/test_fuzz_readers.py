@@ -1,8 +1,8 @@
 """Every file reader on damaged files: each input ends in InputError or a sane result, never
 another exception, a printed warning, a hang (> 5 s) or a huge allocation (harness.py).
 
-``CATWALK_FUZZ_EXAMPLES=1000 pytest tests/fuzz`` is the full run (1,000 inputs per fuzzer);
-by default each tries a few (the suite within a minute).
+``make fuzz`` is the deep run (10,000 inputs per fuzzer: ``CATWALK_FUZZ_EXAMPLES``); by
+default each tries a few (the suite within a minute).
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ CATWALK=${CATWALK:-.venv/bin/catwalk}
 mkdir -p "$OUT"
 { date -u +%FT%TZ; git rev-parse --short HEAD; nproc; grep -m1 "model name" /proc/cpuinfo;
   grep -qw avx512f /proc/cpuinfo && echo "avx512f: yes" || echo "avx512f: no";
-  cat /proc/loadavg; } > "$OUT/machine.txt"
+  cat /proc/loadavg; echo "benchmarks: ${*:-all}"; } >> "$OUT/machine.txt"
 
 declare -A BENCH=(
   [bodies]="bodies build --out-dir $OUT/bodies"
@@ -25,14 +25,15 @@ declare -A BENCH=(
   [collide]="bench collide --json"
   [dress]="bench dress --json"
   [paper]="bench paper --quiet --json"
+  [implicit]="bench paper --quiet --json --modes hybrid --integrator implicit"
   [service]="bench service --json"
   [player]="bench player --json"
   [stress]="bench stress --quiet --json"
   [pareto]="bench pareto --quiet --json"
   [chaos]="loadtest --chaos --users 20 --seconds 180 --json"
 )
-ORDER=(bodies scan gait skinning render cloth drape cantilever collide dress paper service player
-       stress pareto chaos)
+ORDER=(bodies scan gait skinning render cloth drape cantilever collide dress paper implicit
+       service player stress pareto chaos)
 [ $# -gt 0 ] && ORDER=("$@")
 for name in "${ORDER[@]}"; do
   [ -n "${BENCH[$name]:-}" ] || { echo "run_all: no benchmark $name" >&2; exit 2; }

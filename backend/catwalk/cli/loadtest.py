@@ -20,7 +20,7 @@ def _loadtest(args) -> int:
         raise InputError(f"--users must be within 1–500, got {args.users}")
     r = chaos.run(args.users, args.seconds, args.kill_every, args.garment, args.keep)
     print(json.dumps(r, indent=2) if args.json else chaos.format_report(r))
-    return 0
+    return 0 if r["ok"] else 3      # a try-on lost or done twice, or an unexpected 5xx
 
 
 def register(top, groups) -> None:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import collections
 import contextlib
 import json
+import os
 import re
 import subprocess
 import tempfile
@@ -129,6 +130,9 @@ def run(users: int = 20, seconds: float = 180.0, kill_every: float = 20.0,
     if kill_every < 5:
         raise InputError(f"--kill-every must be at least 5 s, got {kill_every:g}")
     with tempfile.TemporaryDirectory(prefix="catwalk-chaos-") as tmp:
+        if os.geteuid() == 0:
+            # PostgreSQL runs as its own user (stack.py): it must pass through the folder
+            os.chmod(tmp, 0o711)
         root = Path(keep) if keep else Path(tmp)
         root.mkdir(parents=True, exist_ok=True)
         stack = Stack(root / "stack")
