@@ -58,11 +58,13 @@ test: install lint services browser
 	$(VENV)/bin/pytest -q $(PYTEST_ARGS)
 
 # the fuzzers deeper than `make test` runs them: FUZZ_EXAMPLES inputs per file reader
-# (tests/fuzz) and examples per API operation (schemathesis, tests/service/test_schema_fuzz.py)
+# (tests/fuzz), FUZZ_API_EXAMPLES examples per API operation (schemathesis,
+# tests/service/test_schema_fuzz.py; each a request to the running service)
 FUZZ_EXAMPLES ?= 10000
+FUZZ_API_EXAMPLES ?= 1000
 fuzz: install services
-	CATWALK_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(VENV)/bin/pytest -q tests/fuzz \
-		tests/service/test_schema_fuzz.py
+	CATWALK_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) CATWALK_FUZZ_API_EXAMPLES=$(FUZZ_API_EXAMPLES) \
+		$(VENV)/bin/pytest -q -s tests/fuzz tests/service/test_schema_fuzz.py
 
 bodies: install
 	$(CATWALK) bodies build

@@ -38,9 +38,9 @@ MIN_REQUESTS = 1000
 
 SETTINGS = {
     "seed": 20261125,   # the same requests on every run (a failure reproduces)
-    # `make fuzz` (CATWALK_FUZZ_EXAMPLES) runs deeper: that many examples per operation
+    # `make fuzz` runs deeper: CATWALK_FUZZ_API_EXAMPLES examples per operation
     "generation": {"mode": "all", "database": "none",
-                   "max-examples": int(os.environ.get("CATWALK_FUZZ_EXAMPLES") or 60)},
+                   "max-examples": int(os.environ.get("CATWALK_FUZZ_API_EXAMPLES") or 60)},
     # use_after_free off: DELETE of a try-on cancels it, and the try-on stays to be read
     # ("cancelled", docs/api.md); a deleted body answering 404: test_embedded.py
     "checks": {"enabled": True, "positive_data_acceptance": {"enabled": False},
