@@ -200,6 +200,23 @@ def test_malformed_markup_raises_input_errors_only(tmp_path):
     assert tried > 100
 
 
+def test_a_panel_renamed_to_nothing_is_refused_by_name(tmp_path):
+    """Found by `make fuzz`: a piece with copies renamed to "" left its copies pointing at a
+    falsy name, and a seam on a copy raised KeyError; names follow the garment format's rule."""
+    from catwalk.exchange.markup import apply_markup
+
+    pieces, _ = read_dxf(write_pattern(tmp_path / "p.dxf", sizes=("M",)))
+    for bad, where in (("", "panel 'BACK': name"), (" back", "panel 'BACK': name"),
+                       (7, "panel 'BACK': name")):
+        markup = copy.deepcopy(SKIRT_MARKUP)
+        markup["panels"]["BACK"]["name"] = bad
+        with pytest.raises(InputError, match=where):
+            apply_markup(pieces_to_garment(copy.deepcopy(pieces), "x"), markup)
+    markup = copy.deepcopy(SKIRT_MARKUP)
+    markup["panels"]["BACK"]["copies"][0]["name"] = ""
+    with pytest.raises(InputError, match="copy 0: name '' is not a name"):
+        apply_markup(pieces_to_garment(copy.deepcopy(pieces), "x"), markup)
+
 @pytest.mark.parametrize("qty,copies", [("1,1", [False, True]), ("2,0", [False, False]),
                                         ("2,1", [False, False, True]),
                                         ("2", [False, True])])

@@ -97,7 +97,7 @@ def _str(v, where: str) -> str:
     return v
 
 
-def _name(v, where: str, what: str) -> str:
+def check_name(v, where: str, what: str) -> str:
     """A size or panel name: a non-empty string without surrounding spaces."""
     if not isinstance(v, str) or not v.strip() or v != v.strip() or len(v) > MAX_NAME:
         raise InputError(f"{where}: {what} {v!r:.60} is not a name (a non-empty string without "
@@ -264,7 +264,7 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
     if len(sizes) > MAX_SIZES:
         raise InputError(f"{src}: {len(sizes):,} sizes; a garment has at most {MAX_SIZES}")
     for s in sizes:
-        _name(s, f"{src}: sizes", "size")
+        check_name(s, f"{src}: sizes", "size")
     panels = []
     seen = set()
     if not isinstance(data["panels"], list) or not data["panels"]:
@@ -275,7 +275,7 @@ def garment_from_dict(data: dict, path: str | Path | None = None, *,
     for i, rp in enumerate(data["panels"]):
         if not isinstance(rp, dict) or not isinstance(rp.get("name"), str):
             raise InputError(f"{src}: panel {i} has no name")
-        pname = _name(rp["name"], f"{src}: panel {i}", "name")
+        pname = check_name(rp["name"], f"{src}: panel {i}", "name")
         w = f"{src}: panel {pname!r}"
         if pname in seen:
             raise InputError(f"{w}: two panels have this name")

@@ -43,6 +43,7 @@ from catwalk.exchange.garment_json import (
     _placement,
     _pt,
     _str,
+    check_name,
     garment_from_dict,
     garment_to_dict,
 )
@@ -120,7 +121,7 @@ def apply_markup(g: Garment, markup: dict, where: str = "markup") -> Garment:
         if "fold" in pm:
             p.fold = None if pm["fold"] is None else _int(pm["fold"], f"{w}: fold")
         if "name" in pm:
-            renames[pname] = _str(pm["name"], f"{w}: name")
+            renames[pname] = check_name(pm["name"], w, "name")
         for j, sp in enumerate(_list(pm.get("split", []), f"{w}: split")):
             _split(g, p, sp, f"{w}, split {j}")
         if "copies" in pm:
@@ -128,8 +129,9 @@ def apply_markup(g: Garment, markup: dict, where: str = "markup") -> Garment:
             at = g.panels.index(p) + 1
             for j, c in enumerate(_list(pm["copies"], f"{w}: copies")):
                 wc = f"{w}, copy {j}"
-                if not isinstance(c, dict) or not isinstance(c.get("name"), str):
+                if not isinstance(c, dict) or "name" not in c:
                     raise InputError(f"{wc}: needs a name")
+                check_name(c["name"], wc, "name")
                 ctype = c.get("type", p.type)
                 if ctype not in PANEL_TYPES:
                     raise InputError(f"{wc}: panel type {ctype!r} is not one of "
