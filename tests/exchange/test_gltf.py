@@ -70,3 +70,17 @@ def test_reading_garbage_is_a_clear_error(tmp_path):
         gltf.read_body(p)
     with pytest.raises(InputError, match="no such file"):
         gltf.read_body(tmp_path / "missing.glb")
+
+
+def test_a_json_chunk_beyond_the_json_limit_is_refused_before_it_is_parsed():
+    """Found by `make fuzz`: a try-on .glb whose JSON chunk was 128 MiB (accessors repeated
+    ×5,000) took over 5 s to parse; a glTF's JSON describes, the geometry is in the binary, so
+    a JSON chunk over the readers' JSON limit is refused by its header."""
+    import struct
+
+    from catwalk.exchange.source import MAX_JSON_BYTES
+
+    n = MAX_JSON_BYTES + 4
+    data = b"glTF" + struct.pack("<II", 2, 20 + n) + struct.pack("<I", n) + b"JSON" + b" " * n
+    with pytest.raises(InputError, match="its JSON chunk is 67,108,868 bytes"):
+        gltf.load_glb(data)

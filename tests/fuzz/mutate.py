@@ -267,11 +267,11 @@ def _json_op(draw, doc):
     return doc, f"{where} numbers ×{k}"
 
 
-#: the largest document the markers are expanded into: twice the readers' limit on a source
-#: (exchange/source.py) — beyond it every reader refuses alike, and a repeated marker expanded
-#: every time (a list of 200,000 numbers repeated ×5,000: 4 GB) measured the pipe to the
-#: worker, not the reader
-MAX_DOC_BYTES = 128 * 2**20
+#: the largest document the markers are expanded into: a little over the readers' limit on a
+#: JSON document (exchange/source.py) — beyond it every reader refuses alike, and a repeated
+#: marker expanded every time (a list of 200,000 numbers repeated ×5,000: 4 GB) measured the
+#: pipe to the worker, not the reader
+MAX_DOC_BYTES = 72 * 2**20
 
 
 def _expand(text: str, marker: str, expansion: str) -> str:

@@ -217,6 +217,18 @@ def test_a_panel_renamed_to_nothing_is_refused_by_name(tmp_path):
     with pytest.raises(InputError, match="copy 0: name '' is not a name"):
         apply_markup(pieces_to_garment(copy.deepcopy(pieces), "x"), markup)
 
+def test_a_piece_split_thousands_of_times_is_refused_at_once(tmp_path):
+    """Found by `make fuzz`: 5,000 splits of one sleeve took minutes; a piece is split at most
+    MAX_SPLITS times (a markup splits where a dart or a notch ends a seam)."""
+    from catwalk.exchange.markup import MAX_SPLITS, apply_markup
+
+    pieces, _ = read_dxf(write_pattern(tmp_path / "p.dxf", sizes=("M",)))
+    markup = copy.deepcopy(SKIRT_MARKUP)
+    markup["panels"]["BACK"]["split"] = [{"from": 1, "length": 0.05}] * (MAX_SPLITS + 1)
+    with pytest.raises(InputError, match=f"panel 'BACK': {MAX_SPLITS + 1} splits"):
+        apply_markup(pieces_to_garment(copy.deepcopy(pieces), "x"), markup)
+
+
 @pytest.mark.parametrize("qty,copies", [("1,1", [False, True]), ("2,0", [False, False]),
                                         ("2,1", [False, False, True]),
                                         ("2", [False, True])])

@@ -29,7 +29,7 @@ from scipy.spatial.transform import Rotation
 from catwalk.body.types import Body, Motion, Skeleton
 from catwalk.config import get_config
 from catwalk.errors import InputError
-from catwalk.exchange.source import parse_json, read_source, source_name
+from catwalk.exchange.source import MAX_JSON_BYTES, parse_json, read_source, source_name
 from catwalk.fileio import atomic_path
 from catwalk.geometry.raster import vertex_normals
 
@@ -464,6 +464,9 @@ def load_glb(source, what: str = "glb") -> tuple[Gltf, bytes]:
     if data[16:20] != b"JSON" or 20 + json_len > length:
         raise InputError(f"{path}: damaged GLB: the first chunk is not a JSON chunk within "
                          "the file")
+    if json_len > MAX_JSON_BYTES:   # a glTF's JSON describes; the geometry is in the binary
+        raise InputError(f"{path}: its JSON chunk is {json_len:,} bytes; at most "
+                         f"{MAX_JSON_BYTES:,} are read")
 
     key = hashlib.sha1(data).digest()
     if key in _PARSED:   # several readers of one file parse it once

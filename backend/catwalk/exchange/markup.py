@@ -51,6 +51,10 @@ from catwalk.exchange.source import read_json
 from catwalk.garment.geometry import run_length, segment_lengths, split_at_length
 from catwalk.garment.model import GARMENT_TYPES, PANEL_TYPES, Garment, Panel, Seam, SeamSide
 
+#: splits of one piece: a markup splits a piece where a seam ends off its vertices (a dart, a
+#: notch), a few times at most; thousands took minutes
+MAX_SPLITS = 50
+
 SNAP = 5e-3   # metres
 
 
@@ -122,7 +126,11 @@ def apply_markup(g: Garment, markup: dict, where: str = "markup") -> Garment:
             p.fold = None if pm["fold"] is None else _int(pm["fold"], f"{w}: fold")
         if "name" in pm:
             renames[pname] = check_name(pm["name"], w, "name")
-        for j, sp in enumerate(_list(pm.get("split", []), f"{w}: split")):
+        splits = _list(pm.get("split", []), f"{w}: split")
+        if len(splits) > MAX_SPLITS:
+            raise InputError(f"{w}: {len(splits):,} splits; a piece is split at most "
+                             f"{MAX_SPLITS} times")
+        for j, sp in enumerate(splits):
             _split(g, p, sp, f"{w}, split {j}")
         if "copies" in pm:
             g.panels = [q for q in g.panels if q.copy_of != pname]
