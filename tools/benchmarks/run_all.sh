@@ -35,11 +35,20 @@ declare -A BENCH=(
 ORDER=(bodies scan gait skinning render cloth drape cantilever collide dress paper implicit
        service player stress pareto chaos)
 [ $# -gt 0 ] && ORDER=("$@")
+for name in "${ORDER[@]}"; do   # every name checked before anything runs
+  [ -n "${BENCH[$name]:-}" ] || { echo "run_all: no benchmark $name (${!BENCH[*]})" >&2; exit 2; }
+done
+failed=()
 for name in "${ORDER[@]}"; do
-  [ -n "${BENCH[$name]:-}" ] || { echo "run_all: no benchmark $name" >&2; exit 2; }
   echo "run_all: $name: catwalk ${BENCH[$name]}" >&2
   start=$EPOCHREALTIME
+  # one that fails is told and the rest still run (its log: $OUT/$name.log)
   # shellcheck disable=SC2086
-  $CATWALK ${BENCH[$name]} > "$OUT/$name.json" 2> "$OUT/$name.log"
-  python3 -c "print('$name', round($EPOCHREALTIME - $start, 1))" >> "$OUT/seconds.txt"
+  if $CATWALK ${BENCH[$name]} > "$OUT/$name.json" 2> "$OUT/$name.log"; then
+    python3 -c "print('$name', round($EPOCHREALTIME - $start, 1))" >> "$OUT/seconds.txt"
+  else
+    echo "run_all: $name failed (exit $?): $OUT/$name.log" >&2
+    failed+=("$name")
+  fi
 done
+[ ${#failed[@]} -eq 0 ] || { echo "run_all: failed: ${failed[*]}" >&2; exit 1; }
